@@ -1,0 +1,42 @@
+//! `appel`: the command-line front end. Each subcommand lives in its own file; the library does all
+//! the work.
+
+mod render_cmd;
+mod scenes_cmd;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "appel",
+    version,
+    about = "Appel: a fast, correct CPU ray tracer"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene file (or a built-in scene) to an image.
+    Render(render_cmd::RenderArgs),
+    /// List the built-in scenes, or print one as a scene file to edit.
+    Scenes(scenes_cmd::ScenesArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render_cmd::run(args),
+        Command::Scenes(args) => scenes_cmd::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

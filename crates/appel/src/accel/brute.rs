@@ -1,0 +1,62 @@
+use super::{AccelStats, Hit, Primitives, TraversalStats};
+use crate::math::Ray;
+
+/// Exhaustive intersection: every ray tests every primitive. The reference the others are checked
+/// against, and the cost (#rays x #primitives) they exist to avoid.
+#[derive(Clone, Debug, Default)]
+pub struct Brute {
+    count: usize,
+}
+
+impl Brute {
+    pub fn build<P: Primitives>(prims: &P) -> Self {
+        Self {
+            count: prims.count(),
+        }
+    }
+
+    pub fn intersect<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        stats.rays += 1;
+        stats.prim_tests += self.count as u64;
+        let mut best: Option<Hit> = None;
+        let mut t_max = t_max;
+        for i in 0..self.count {
+            if let Some(h) = prims.intersect(i, ray, t_max) {
+                t_max = h.t;
+                best = Some(Hit::new(i, h));
+            }
+        }
+        best
+    }
+
+    pub fn occluded<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        stats.rays += 1;
+        for i in 0..self.count {
+            stats.prim_tests += 1;
+            if prims.intersect(i, ray, t_max).is_some() {
+                return true;
+            }
+        }
+        false
+    }
+
+    pub fn stats(&self) -> AccelStats {
+        AccelStats {
+            name: "brute",
+            primitives: self.count,
+            ..Default::default()
+        }
+    }
+}

@@ -1,0 +1,113 @@
+//! Acceleration structures. Each builds over any [`Primitives`] (its builder sees only bounds and
+//! centroids) and answers closest-hit and any-hit queries by calling back to intersect one primitive.
+//! [`Accel`] is the enum the renderer holds: one match per ray, no dynamic dispatch per node.
+
+mod brute;
+mod stats;
+
+pub use brute::Brute;
+pub use stats::{AccelStats, TraversalStats};
+
+use crate::geometry::PrimHit;
+use crate::math::{Aabb, Ray, Vec3};
+
+/// What an acceleration structure is built over.
+pub trait Primitives: Sync {
+    fn count(&self) -> usize;
+    fn bounds(&self, i: usize) -> Aabb;
+    fn centroid(&self, i: usize) -> Vec3 {
+        self.bounds(i).center()
+    }
+    /// Closest hit of primitive `i` with `t` in `(0, t_max)`.
+    fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit>;
+}
+
+/// A closest hit: which primitive, and where on it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub prim: u32,
+    pub t: f32,
+    pub u: f32,
+    pub v: f32,
+}
+
+impl Hit {
+    pub fn new(prim: usize, h: PrimHit) -> Self {
+        Self {
+            prim: prim as u32,
+            t: h.t,
+            u: h.u,
+            v: h.v,
+        }
+    }
+}
+
+/// The structures a user can choose by name (`render.accel`, `--accel`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AccelKind {
+    #[default]
+    Brute,
+}
+
+impl AccelKind {
+    pub const NAMES: &'static [&'static str] = &["brute"];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "brute" => Some(Self::Brute),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Brute => "brute",
+        }
+    }
+}
+
+/// A built acceleration structure.
+#[derive(Clone, Debug)]
+pub enum Accel {
+    Brute(Brute),
+}
+
+impl Accel {
+    pub fn build<P: Primitives>(kind: AccelKind, prims: &P) -> Self {
+        match kind {
+            AccelKind::Brute => Accel::Brute(Brute::build(prims)),
+        }
+    }
+
+    #[inline]
+    pub fn intersect<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        match self {
+            Accel::Brute(a) => a.intersect(prims, ray, t_max, stats),
+        }
+    }
+
+    #[inline]
+    pub fn occluded<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        match self {
+            Accel::Brute(a) => a.occluded(prims, ray, t_max, stats),
+        }
+    }
+
+    pub fn stats(&self) -> AccelStats {
+        match self {
+            Accel::Brute(a) => a.stats(),
+        }
+    }
+}

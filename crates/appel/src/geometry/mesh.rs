@@ -1,0 +1,95 @@
+use super::{triangle::TriangleTest, PrimHit, SurfaceInteraction};
+use crate::math::{gamma, Aabb, Ray, Vec2, Vec3};
+
+/// An indexed triangle mesh, stored flat: f32 positions, u32 index triples, and optional per-vertex
+/// normals and texture coordinates.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleMesh {
+    pub positions: Vec<Vec3>,
+    pub indices: Vec<[u32; 3]>,
+    pub normals: Option<Vec<Vec3>>,
+    pub uvs: Option<Vec<Vec2>>,
+}
+
+impl TriangleMesh {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    #[inline]
+    pub fn vertices(&self, tri: usize) -> [Vec3; 3] {
+        let [a, b, c] = self.indices[tri];
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
+    }
+
+    pub fn triangle_bounds(&self, tri: usize) -> Aabb {
+        Aabb::from_points(self.vertices(tri))
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.positions.iter().copied())
+    }
+
+    #[inline]
+    pub fn intersect(
+        &self,
+        tri: usize,
+        ray: &Ray,
+        t_max: f32,
+        test: TriangleTest,
+    ) -> Option<PrimHit> {
+        let [p0, p1, p2] = self.vertices(tri);
+        test.intersect(ray, t_max, p0, p1, p2)
+    }
+
+    /// The hit point is recomputed from the barycentrics, whose error bound (pbrt-v4 eq. 6.30) does not
+    /// grow with the length of the ray.
+    pub fn interaction(&self, tri: usize, hit: &PrimHit) -> SurfaceInteraction {
+        let [p0, p1, p2] = self.vertices(tri);
+        let (b1, b2) = (hit.u, hit.v);
+        let b0 = 1.0 - b1 - b2;
+        let p = b0 * p0 + b1 * p1 + b2 * p2;
+        let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
+        let cross = (p1 - p0).cross(p2 - p0);
+        let n = if cross.length_squared() > 0.0 {
+            cross.normalize()
+        } else {
+            // Only reachable for a triangle too small for f32 to express its normal; any unit vector
+            // keeps shading finite.
+            Vec3::Z
+        };
+        let [i0, i1, i2] = self.indices[tri].map(|i| i as usize);
+        let mut n = n;
+        let ns = match &self.normals {
+            Some(ns) => {
+                let s = b0 * ns[i0] + b1 * ns[i1] + b2 * ns[i2];
+                if s.length_squared() > 0.0 && s.is_finite() {
+                    // Vertex normals say where the outside is more reliably than a file's winding.
+                    let s = s.normalize();
+                    if s.dot(n) < 0.0 {
+                        n = -n;
+                    }
+                    s
+                } else {
+                    n
+                }
+            }
+            None => n,
+        };
+        let uv = match &self.uvs {
+            Some(uv) => b0 * uv[i0] + b1 * uv[i1] + b2 * uv[i2],
+            None => Vec2::new(b1, b2),
+        };
+        SurfaceInteraction {
+            p,
+            p_error,
+            n,
+            ns,
+            uv,
+        }
+    }
+}

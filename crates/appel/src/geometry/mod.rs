@@ -1,0 +1,40 @@
+//! Ray-surface intersection for each kind of surface, and the local surface description at a hit.
+//!
+//! Every intersector returns the smallest `t` in `(0, t_max)` (a cheap [`PrimHit`]); the full
+//! [`SurfaceInteraction`] is computed once, for the final hit only.
+
+mod mesh;
+mod plane;
+mod sphere;
+pub mod triangle;
+
+pub use mesh::TriangleMesh;
+pub use plane::Plane;
+pub use sphere::Sphere;
+pub use triangle::TriangleTest;
+
+use crate::math::{Vec2, Vec3};
+
+/// What traversal carries around: the ray parameter and two surface coordinates (barycentrics for a
+/// triangle), enough to compute the full interaction later.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrimHit {
+    pub t: f32,
+    pub u: f32,
+    pub v: f32,
+}
+
+/// The local geometry at a hit point.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceInteraction {
+    /// The hit point, refined onto the surface where the surface allows it.
+    pub p: Vec3,
+    /// A conservative bound on the absolute rounding error of each coordinate of `p`.
+    pub p_error: Vec3,
+    /// Unit geometric normal, pointing to the outside of the surface (for triangles: by winding).
+    pub n: Vec3,
+    /// Unit shading normal (interpolated vertex normal where a mesh has them), same side as `n`.
+    pub ns: Vec3,
+    /// Surface coordinates used by textures.
+    pub uv: Vec2,
+}

@@ -1,0 +1,158 @@
+use super::{PrimHit, SurfaceInteraction};
+use crate::math::{gamma, Aabb, Ray, Vec2, Vec3};
+
+/// The plane `dot(normal, p) = offset`, infinite or limited to a rectangle centred on `point`.
+/// Infinite planes have no finite bounds, so they stay outside the acceleration structures and are
+/// tested on their own; rectangles are ordinary bounded primitives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    pub normal: Vec3,
+    pub offset: f32,
+    pub point: Vec3,
+    /// Half the rectangle's side along `tangent` and `bitangent`; `None` for an infinite plane.
+    pub half_size: Option<Vec2>,
+    /// Texture axes in the plane: `uv = (dot(p, tangent), dot(p, bitangent))`, in scene units.
+    tangent: Vec3,
+    bitangent: Vec3,
+}
+
+impl Plane {
+    /// The infinite plane through `point` with (not necessarily unit) `normal`.
+    pub fn new(point: Vec3, normal: Vec3) -> Self {
+        Self::rectangle(point, normal, None)
+    }
+
+    /// A `size.x` by `size.y` rectangle centred on `point`, its sides along the texture axes (world x
+    /// and the direction perpendicular to it in the plane, or world z for planes facing x).
+    pub fn rectangle(point: Vec3, normal: Vec3, size: Option<Vec2>) -> Self {
+        let normal = normal.normalize();
+        // Prefer world x as the first texture axis, so a floor's checkerboard follows x and z.
+        let reference = if normal.x.abs() < 0.9 {
+            Vec3::X
+        } else {
+            Vec3::Z
+        };
+        let tangent = (reference - normal * normal.dot(reference)).normalize();
+        let bitangent = normal.cross(tangent).normalize();
+        Self {
+            normal,
+            offset: normal.dot(point),
+            point,
+            half_size: size.map(|s| 0.5 * s),
+            tangent,
+            bitangent,
+        }
+    }
+
+    /// Bounds of a rectangle; `None` for an infinite plane.
+    pub fn bounds(&self) -> Option<Aabb> {
+        let h = self.half_size?;
+        let (a, b) = (h.x * self.tangent, h.y * self.bitangent);
+        Some(Aabb::from_points([
+            self.point + a + b,
+            self.point + a - b,
+            self.point - a + b,
+            self.point - a - b,
+        ]))
+    }
+
+    /// Computed in f64 so that the hit parameter is accurate to f32 precision even for an origin far
+    /// from the plane and a grazing direction.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+        let n = self.normal.as_dvec3();
+        let denom = n.dot(ray.dir.as_dvec3());
+        if denom == 0.0 {
+            return None;
+        }
+        let t = (self.offset as f64 - n.dot(ray.origin.as_dvec3())) / denom;
+        if !(t > 0.0 && t < t_max as f64) {
+            return None;
+        }
+        if let Some(h) = self.half_size {
+            let local = ray.origin.as_dvec3() + t * ray.dir.as_dvec3() - self.point.as_dvec3();
+            if local.dot(self.tangent.as_dvec3()).abs() > h.x as f64
+                || local.dot(self.bitangent.as_dvec3()).abs() > h.y as f64
+            {
+                return None;
+            }
+        }
+        Some(PrimHit {
+            t: t as f32,
+            u: 0.0,
+            v: 0.0,
+        })
+    }
+
+    pub fn interaction(&self, ray: &Ray, hit: &PrimHit) -> SurfaceInteraction {
+        let n = self.normal.as_dvec3();
+        let p = ray.origin.as_dvec3() + hit.t as f64 * ray.dir.as_dvec3();
+        // Project onto the plane: what remains is the rounding of the f64 -> f32 conversion and of the
+        // plane's own stored offset.
+        let p = (p - (n.dot(p) - self.offset as f64) * n).as_vec3();
+        let p_error = gamma(4) * (p.abs() + Vec3::splat(self.offset.abs()));
+        SurfaceInteraction {
+            p,
+            p_error,
+            n: self.normal,
+            ns: self.normal,
+            uv: Vec2::new(p.dot(self.tangent), p.dot(self.bitangent)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ray_hits_plane_at_analytic_distance() {
+        let pl = Plane::new(Vec3::new(0.0, -1.0, 0.0), Vec3::Y);
+        let r = Ray::new(Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.0, -1.0, 0.0));
+        assert!((pl.intersect(&r, f32::INFINITY).unwrap().t - 3.0).abs() < 1e-6);
+        let r = Ray::new(
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0).normalize(),
+        );
+        let t = pl.intersect(&r, f32::INFINITY).unwrap().t;
+        assert!((t - 3.0 * 2f32.sqrt()).abs() < 1e-5);
+    }
+
+    #[test]
+    fn parallel_and_receding_rays_miss() {
+        let pl = Plane::new(Vec3::ZERO, Vec3::Y);
+        assert!(pl
+            .intersect(&Ray::new(Vec3::Y, Vec3::X), f32::INFINITY)
+            .is_none());
+        assert!(pl
+            .intersect(&Ray::new(Vec3::Y, Vec3::Y), f32::INFINITY)
+            .is_none());
+    }
+
+    #[test]
+    fn hits_from_below_count_too() {
+        let pl = Plane::new(Vec3::ZERO, Vec3::Y);
+        let h = pl.intersect(&Ray::new(-Vec3::Y, Vec3::Y), f32::INFINITY);
+        assert!((h.unwrap().t - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn rectangle_is_hit_inside_and_missed_outside() {
+        let r = Plane::rectangle(Vec3::ZERO, Vec3::Y, Some(Vec2::new(2.0, 4.0)));
+        let down = |x: f32, z: f32| Ray::new(Vec3::new(x, 1.0, z), -Vec3::Y);
+        assert!(r.intersect(&down(0.9, 1.9), f32::INFINITY).is_some());
+        assert!(r.intersect(&down(1.1, 0.0), f32::INFINITY).is_none());
+        assert!(r.intersect(&down(0.0, 2.1), f32::INFINITY).is_none());
+        let b = r.bounds().unwrap();
+        assert!((b.extent() - Vec3::new(2.0, 0.0, 4.0)).abs().max_element() < 1e-6);
+        assert!(Plane::new(Vec3::ZERO, Vec3::Y).bounds().is_none());
+    }
+
+    #[test]
+    fn interaction_is_on_the_plane_with_floor_uv_along_x_and_z() {
+        let pl = Plane::new(Vec3::ZERO, Vec3::Y);
+        let r = Ray::new(Vec3::new(3.0, 5.0, -2.0), -Vec3::Y);
+        let si = pl.interaction(&r, &pl.intersect(&r, f32::INFINITY).unwrap());
+        assert_eq!(si.p.y, 0.0);
+        assert!((si.uv.x.abs() - 3.0).abs() < 1e-6 && (si.uv.y.abs() - 2.0).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,167 @@
+use super::{PrimHit, SurfaceInteraction};
+use crate::math::{gamma, Aabb, Ray, Vec2, Vec3};
+use glam::DVec3;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+impl Sphere {
+    pub fn new(center: Vec3, radius: f32) -> Self {
+        Self { center, radius }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        Aabb::new(
+            self.center - Vec3::splat(self.radius),
+            self.center + Vec3::splat(self.radius),
+        )
+    }
+
+    /// Closest root in `(0, t_max)` of `|o + t d - c|^2 = r^2`.
+    ///
+    /// Solved in f64 with the discriminant in the form of pbrt-v4 eq. 6.12 (`r^2 - |l|^2`, with `l` the
+    /// offset from the centre to the closest point on the line), which does not cancel catastrophically
+    /// for rays far from a small sphere, and the stable quadratic formula (Press et al.).
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+        let o = ray.origin.as_dvec3() - self.center.as_dvec3();
+        let d = ray.dir.as_dvec3();
+        let r = self.radius as f64;
+        let a = d.length_squared();
+        if a == 0.0 {
+            return None;
+        }
+        let half_b = o.dot(d);
+        let c = o.length_squared() - r * r;
+        let l = o - (half_b / a) * d;
+        let disc = a * (r * r - l.length_squared());
+        if disc < 0.0 {
+            return None;
+        }
+        let root = disc.sqrt();
+        let q = if half_b < 0.0 {
+            -half_b + root
+        } else {
+            -half_b - root
+        };
+        let (mut t0, mut t1) = if q == 0.0 { (0.0, 0.0) } else { (c / q, q / a) };
+        if t0 > t1 {
+            std::mem::swap(&mut t0, &mut t1);
+        }
+        let t_max = t_max as f64;
+        let t = if t0 > 0.0 && t0 < t_max {
+            t0
+        } else if t1 > 0.0 && t1 < t_max {
+            t1
+        } else {
+            return None;
+        };
+        Some(PrimHit {
+            t: t as f32,
+            u: 0.0,
+            v: 0.0,
+        })
+    }
+
+    pub fn interaction(&self, ray: &Ray, hit: &PrimHit) -> SurfaceInteraction {
+        // Re-project the hit point onto the surface (pbrt-v4 section 6.8.5), so its error no longer
+        // depends on how far the ray travelled.
+        let c = self.center.as_dvec3();
+        let p_hit = ray.origin.as_dvec3() + hit.t as f64 * ray.dir.as_dvec3();
+        let mut local = p_hit - c;
+        let len = local.length();
+        local = if len > 0.0 {
+            local * (self.radius as f64 / len)
+        } else {
+            DVec3::new(0.0, self.radius as f64, 0.0)
+        };
+        let p = (c + local).as_vec3();
+        let local = local.as_vec3();
+        let p_error = gamma(5) * (local.abs() + p.abs());
+        let n = (local / self.radius).normalize();
+        // Arc lengths along longitude and latitude: texture units are scene units, as on planes.
+        let phi = n.z.atan2(n.x) + std::f32::consts::PI;
+        let theta = n.y.clamp(-1.0, 1.0).acos();
+        let uv = Vec2::new(phi, theta) * self.radius;
+        SurfaceInteraction {
+            p,
+            p_error,
+            n,
+            ns: n,
+            uv,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit() -> Sphere {
+        Sphere::new(Vec3::ZERO, 1.0)
+    }
+
+    #[test]
+    fn ray_from_outside_hits_the_near_side() {
+        let h = unit()
+            .intersect(&Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z), f32::INFINITY)
+            .unwrap();
+        assert!((h.t - 4.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn ray_from_inside_hits_the_far_side() {
+        let h = unit()
+            .intersect(&Ray::new(Vec3::new(0.0, 0.5, 0.0), Vec3::Y), f32::INFINITY)
+            .unwrap();
+        assert!((h.t - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn sphere_behind_the_ray_is_missed() {
+        assert!(unit()
+            .intersect(&Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::Z), f32::INFINITY)
+            .is_none());
+    }
+
+    #[test]
+    fn grazing_ray_touches_once_and_a_ray_just_outside_misses() {
+        let graze = unit()
+            .intersect(&Ray::new(Vec3::new(1.0, 0.0, -5.0), Vec3::Z), f32::INFINITY)
+            .unwrap();
+        assert!((graze.t - 5.0).abs() < 1e-5);
+        assert!(unit()
+            .intersect(
+                &Ray::new(Vec3::new(1.0001, 0.0, -5.0), Vec3::Z),
+                f32::INFINITY
+            )
+            .is_none());
+    }
+
+    #[test]
+    fn t_max_excludes_farther_hits() {
+        let r = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+        assert!(unit().intersect(&r, 3.9).is_none());
+    }
+
+    #[test]
+    fn small_sphere_far_away_is_hit_with_relative_precision() {
+        let s = Sphere::new(Vec3::new(0.0, 0.0, 1.0e5), 1.0e-3);
+        let h = s
+            .intersect(&Ray::new(Vec3::ZERO, Vec3::Z), f32::INFINITY)
+            .unwrap();
+        assert!(((h.t as f64) - (1.0e5 - 1.0e-3)).abs() < 1e-2);
+    }
+
+    #[test]
+    fn interaction_lies_on_the_surface_with_outward_normal() {
+        let s = Sphere::new(Vec3::new(1.0, 2.0, 3.0), 2.0);
+        let r = Ray::new(Vec3::new(1.0, 2.0, -10.0), Vec3::Z);
+        let h = s.intersect(&r, f32::INFINITY).unwrap();
+        let si = s.interaction(&r, &h);
+        assert!(((si.p - s.center).length() - 2.0).abs() < 1e-5);
+        assert!(si.n.dot(-Vec3::Z) > 0.999);
+    }
+}

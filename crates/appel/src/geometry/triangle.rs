@@ -1,0 +1,234 @@
+//! Ray-triangle intersection: the watertight test of Woop, Benthin and Wald (2013) and the
+//! Moller-Trumbore test (1997). Both return `t` and the barycentrics `(u, v)` of vertices 1 and 2.
+
+use super::PrimHit;
+use crate::math::{gamma, Ray, Vec3};
+
+/// Which ray-triangle test meshes use (`render.triangle`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TriangleTest {
+    /// Woop et al. 2013: no ray slips between triangles sharing an edge or a vertex.
+    #[default]
+    Watertight,
+    /// Moller & Trumbore 1997: the classic, faster to set up, but rays can slip through shared edges.
+    Moller,
+}
+
+impl TriangleTest {
+    #[inline]
+    pub fn intersect(self, ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<PrimHit> {
+        match self {
+            TriangleTest::Watertight => watertight(ray, t_max, p0, p1, p2),
+            TriangleTest::Moller => moller_trumbore(ray, t_max, p0, p1, p2),
+        }
+    }
+}
+
+/// Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection", as laid out in pbrt-v4 section
+/// 6.5.3: translate the vertices to the ray origin, permute so the ray direction's largest component is
+/// z, shear so the ray points down +z, then evaluate the 2D edge functions. Edge functions that are
+/// exactly zero are re-evaluated in f64, so a ray through a shared edge is inside exactly one of the
+/// two triangles' closed regions. The final `t` is accepted only if it is positive by more than its
+/// error bound (pbrt-v4 eq. 6.34 onwards).
+#[inline]
+pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<PrimHit> {
+    let d = ray.dir;
+    // Permutation: kz is the axis of the largest |d| component.
+    let ad = d.abs();
+    let kz = if ad.x > ad.y {
+        if ad.x > ad.z {
+            0
+        } else {
+            2
+        }
+    } else if ad.y > ad.z {
+        1
+    } else {
+        2
+    };
+    if ad[kz] == 0.0 {
+        return None;
+    }
+    let kx = if kz == 2 { 0 } else { kz + 1 };
+    let ky = if kx == 2 { 0 } else { kx + 1 };
+    let permute = |v: Vec3| Vec3::new(v[kx], v[ky], v[kz]);
+    let d = permute(d);
+    let mut p0t = permute(p0 - ray.origin);
+    let mut p1t = permute(p1 - ray.origin);
+    let mut p2t = permute(p2 - ray.origin);
+
+    let sx = -d.x / d.z;
+    let sy = -d.y / d.z;
+    let sz = 1.0 / d.z;
+    p0t.x += sx * p0t.z;
+    p0t.y += sy * p0t.z;
+    p1t.x += sx * p1t.z;
+    p1t.y += sy * p1t.z;
+    p2t.x += sx * p2t.z;
+    p2t.y += sy * p2t.z;
+
+    let mut e0 = p1t.x * p2t.y - p1t.y * p2t.x;
+    let mut e1 = p2t.x * p0t.y - p2t.y * p0t.x;
+    let mut e2 = p0t.x * p1t.y - p0t.y * p1t.x;
+    if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
+        let (p0x, p0y) = (p0t.x as f64, p0t.y as f64);
+        let (p1x, p1y) = (p1t.x as f64, p1t.y as f64);
+        let (p2x, p2y) = (p2t.x as f64, p2t.y as f64);
+        e0 = (p1x * p2y - p1y * p2x) as f32;
+        e1 = (p2x * p0y - p2y * p0x) as f32;
+        e2 = (p0x * p1y - p0y * p1x) as f32;
+    }
+    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+        return None;
+    }
+    let det = e0 + e1 + e2;
+    if det == 0.0 {
+        // Degenerate triangle, or a ray in its plane: never a hit.
+        return None;
+    }
+
+    p0t.z *= sz;
+    p1t.z *= sz;
+    p2t.z *= sz;
+    let t_scaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
+    if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
+        return None;
+    }
+    if det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det) {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let b1 = e1 * inv_det;
+    let b2 = e2 * inv_det;
+    let t = t_scaled * inv_det;
+
+    // Conservative check that t is positive by more than its rounding error.
+    let max_zt = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();
+    let delta_z = gamma(3) * max_zt;
+    let max_xt = Vec3::new(p0t.x, p1t.x, p2t.x).abs().max_element();
+    let max_yt = Vec3::new(p0t.y, p1t.y, p2t.y).abs().max_element();
+    let delta_x = gamma(5) * (max_xt + max_zt);
+    let delta_y = gamma(5) * (max_yt + max_zt);
+    let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let max_e = Vec3::new(e0, e1, e2).abs().max_element();
+    let delta_t =
+        3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv_det.abs();
+    if t <= delta_t {
+        return None;
+    }
+    Some(PrimHit { t, u: b1, v: b2 })
+}
+
+/// Moller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection".
+#[inline]
+pub fn moller_trumbore(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<PrimHit> {
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let pvec = ray.dir.cross(e2);
+    let det = e1.dot(pvec);
+    // det is exactly zero for a ray parallel to the plane; a degenerate triangle has e1 x e2 = 0.
+    if det == 0.0 || e1.cross(e2) == Vec3::ZERO {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let tvec = ray.origin - p0;
+    let u = tvec.dot(pvec) * inv_det;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let qvec = tvec.cross(e1);
+    let v = ray.dir.dot(qvec) * inv_det;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(qvec) * inv_det;
+    if t > 0.0 && t < t_max {
+        Some(PrimHit { t, u, v })
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TRI: [Vec3; 3] = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    ];
+
+    fn both(ray: &Ray, t_max: f32) -> [Option<PrimHit>; 2] {
+        [TriangleTest::Watertight, TriangleTest::Moller]
+            .map(|m| m.intersect(ray, t_max, TRI[0], TRI[1], TRI[2]))
+    }
+
+    #[test]
+    fn hit_inside_gives_t_and_barycentrics() {
+        let r = Ray::new(Vec3::new(0.25, 0.5, -2.0), Vec3::Z);
+        for h in both(&r, f32::INFINITY) {
+            let h = h.unwrap();
+            assert!((h.t - 2.0).abs() < 1e-6);
+            assert!((h.u - 0.25).abs() < 1e-6 && (h.v - 0.5).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn both_windings_are_hit() {
+        let r = Ray::new(Vec3::new(0.25, 0.25, 2.0), -Vec3::Z);
+        for h in both(&r, f32::INFINITY) {
+            assert!((h.unwrap().t - 2.0).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn outside_behind_and_beyond_t_max_miss() {
+        let outside = Ray::new(Vec3::new(0.75, 0.75, -1.0), Vec3::Z);
+        let behind = Ray::new(Vec3::new(0.2, 0.2, 1.0), Vec3::Z);
+        let far = Ray::new(Vec3::new(0.2, 0.2, -3.0), Vec3::Z);
+        for r in [outside, behind] {
+            assert_eq!(both(&r, f32::INFINITY), [None, None]);
+        }
+        assert_eq!(both(&far, 2.5), [None, None]);
+    }
+
+    #[test]
+    fn degenerate_triangles_are_never_hit() {
+        let r = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::Z);
+        let collinear = [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X];
+        let point = [Vec3::ZERO; 3];
+        for m in [TriangleTest::Watertight, TriangleTest::Moller] {
+            for t in [collinear, point] {
+                assert!(m.intersect(&r, f32::INFINITY, t[0], t[1], t[2]).is_none());
+            }
+            // A ray lying in the triangle's plane.
+            let inplane = Ray::new(Vec3::new(-1.0, 0.2, 0.0), Vec3::X);
+            assert!(m
+                .intersect(&inplane, f32::INFINITY, TRI[0], TRI[1], TRI[2])
+                .is_none());
+        }
+    }
+
+    #[test]
+    fn watertight_ray_through_shared_edge_hits_a_quad() {
+        // Two triangles sharing the diagonal of the unit square.
+        let a = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0)];
+        let b = [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
+        for i in 0..1000 {
+            let s = i as f32 / 999.0;
+            let r = Ray::new(
+                Vec3::new(s, s, -1.0),
+                Vec3::new(0.01 * (s - 0.5), 0.0, 1.0).normalize(),
+            );
+            let target = Vec3::new(s, s, 0.0);
+            let r = Ray::new(r.origin, (target - r.origin).normalize());
+            let hit_a = watertight(&r, f32::INFINITY, a[0], a[1], a[2]);
+            let hit_b = watertight(&r, f32::INFINITY, b[0], b[1], b[2]);
+            assert!(
+                hit_a.is_some() || hit_b.is_some(),
+                "slipped through at s={s}"
+            );
+        }
+    }
+}

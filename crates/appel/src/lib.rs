@@ -1,0 +1,15 @@
+//! Appel: a fast, correct CPU ray tracer.
+//!
+//! The crate is layered so that data flows one way (see `docs/architecture.md`):
+//! `math` -> `geometry` -> `accel` -> `scene` -> `render` -> `io`.
+//! Nothing in a lower layer names anything of a higher one, and nothing here knows about the command line.
+
+pub mod accel;
+pub mod error;
+pub mod geometry;
+pub mod io;
+pub mod math;
+pub mod render;
+pub mod scene;
+
+pub use error::{Error, Result};

@@ -1,0 +1,22 @@
+//! Vectors, rays, bounding boxes and floating-point error bounds.
+
+mod aabb;
+mod float;
+mod ray;
+
+pub use aabb::Aabb;
+pub use float::{gamma, offset_ray_origin};
+pub use glam::{Vec2, Vec3};
+pub use ray::Ray;
+
+/// An orthonormal basis (`s`, `t`, `n`) around a unit vector `n` (Duff et al. 2017, "Building an
+/// orthonormal basis, revisited"): branch-free and continuous except at the sign flip of `n.z`.
+pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1.0f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}

@@ -1,0 +1,69 @@
+use crate::math::Vec3;
+
+/// Primitive and shape ids of pixels whose camera ray hit nothing.
+pub const MISS_ID: u32 = u32::MAX;
+
+/// The rendered image and its arbitrary output variables, in row-major order from the top-left pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGB radiance.
+    pub rgb: Vec<Vec3>,
+    /// Distance along the unit camera ray to the first hit; +inf on a miss.
+    pub depth: Vec<f32>,
+    /// Unit world-space shading normal at the first hit; zero on a miss.
+    pub normal: Vec<Vec3>,
+    pub shape_id: Vec<u32>,
+    pub prim_id: Vec<u32>,
+}
+
+/// What the camera ray of one pixel saw first.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelAov {
+    pub depth: f32,
+    pub normal: Vec3,
+    pub shape_id: u32,
+    pub prim_id: u32,
+}
+
+impl PixelAov {
+    pub const MISS: PixelAov = PixelAov {
+        depth: f32::INFINITY,
+        normal: Vec3::ZERO,
+        shape_id: MISS_ID,
+        prim_id: MISS_ID,
+    };
+}
+
+impl Film {
+    pub fn new(width: u32, height: u32) -> Self {
+        let n = width as usize * height as usize;
+        Self {
+            width,
+            height,
+            rgb: vec![Vec3::ZERO; n],
+            depth: vec![f32::INFINITY; n],
+            normal: vec![Vec3::ZERO; n],
+            shape_id: vec![MISS_ID; n],
+            prim_id: vec![MISS_ID; n],
+        }
+    }
+
+    pub fn index(&self, x: u32, y: u32) -> usize {
+        y as usize * self.width as usize + x as usize
+    }
+
+    pub fn set(&mut self, x: u32, y: u32, rgb: Vec3, aov: PixelAov) {
+        let i = self.index(x, y);
+        self.rgb[i] = rgb;
+        self.depth[i] = aov.depth;
+        self.normal[i] = aov.normal;
+        self.shape_id[i] = aov.shape_id;
+        self.prim_id[i] = aov.prim_id;
+    }
+
+    pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
+        self.rgb[self.index(x, y)]
+    }
+}

@@ -1,0 +1,204 @@
+//! Integrators: what a camera ray brings back. Ray casting (Appel 1968) shades the first hit locally;
+//! Whitted (1980) adds recursively traced reflected and refracted rays.
+
+use super::optics::{fresnel_dielectric, reflect, refract};
+use super::TraceContext;
+use crate::geometry::SurfaceInteraction;
+use crate::math::{offset_ray_origin, Ray, Vec3};
+use crate::scene::Material;
+use crate::scene::{Light, Scene, SceneHit};
+
+/// Shadow rays towards a point light stop this fraction short of it (pbrt-v4's `ShadowEpsilon`):
+/// relative to the segment, so it is scale-free.
+const SHADOW_EPSILON: f32 = 1e-4;
+
+pub trait Integrator: Sync {
+    /// Radiance arriving along the camera ray `ray`, whose closest hit `hit` the caller already found.
+    fn radiance(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: Option<SceneHit>,
+        ctx: &mut TraceContext,
+    ) -> Vec3;
+}
+
+/// One eye ray per pixel, one shadow ray per light, local shading only.
+pub struct Raycast;
+
+/// Recursive ray tracing to `max_depth` specular bounces.
+pub struct Whitted {
+    pub max_depth: u32,
+}
+
+impl Integrator for Raycast {
+    fn radiance(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: Option<SceneHit>,
+        ctx: &mut TraceContext,
+    ) -> Vec3 {
+        let Some(hit) = hit else {
+            return scene.background;
+        };
+        let si = scene.geometry.interaction(ray, &hit);
+        local_shading(scene, scene.material(&hit), &si, -ray.dir, ctx)
+    }
+}
+
+impl Integrator for Whitted {
+    fn radiance(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: Option<SceneHit>,
+        ctx: &mut TraceContext,
+    ) -> Vec3 {
+        self.trace(scene, ray, hit, 0, ctx)
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Bounce {
+    Reflection,
+    Refraction,
+}
+
+impl Whitted {
+    fn trace(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: Option<SceneHit>,
+        depth: u32,
+        ctx: &mut TraceContext,
+    ) -> Vec3 {
+        let Some(hit) = hit else {
+            return scene.background;
+        };
+        let si = scene.geometry.interaction(ray, &hit);
+        let m = scene.material(&hit);
+        let wo = -ray.dir;
+        let mut color = local_shading(scene, m, &si, wo, ctx);
+        if depth >= self.max_depth || !m.is_specular() {
+            return color;
+        }
+        // Normals on the side the ray arrives from.
+        let entering = ray.dir.dot(si.n) < 0.0;
+        let ns = if si.ns.dot(wo) < 0.0 { -si.ns } else { si.ns };
+        let mut kr = m.reflection;
+        let mut kt = m.transmission;
+        let mut refracted = None;
+        if kt > 0.0 {
+            // eta = n_incident / n_transmitted; the outside is taken to be vacuum (no nested media).
+            let eta = if entering { 1.0 / m.ior } else { m.ior };
+            match refract(ray.dir, ns, eta) {
+                None => {
+                    // Total internal reflection: everything transmitted is reflected instead.
+                    kr += kt;
+                    kt = 0.0;
+                }
+                Some(t) => {
+                    if m.fresnel {
+                        let f = fresnel_dielectric(ns.dot(wo), eta);
+                        kr += kt * f;
+                        kt *= 1.0 - f;
+                    }
+                    refracted = Some(t);
+                }
+            }
+        }
+        if kr > 0.0 {
+            let dir = reflect(ray.dir, ns);
+            color += kr * self.spawn(scene, &si, dir, depth, Bounce::Reflection, ctx);
+        }
+        if let (Some(dir), true) = (refracted, kt > 0.0) {
+            color += kt * self.spawn(scene, &si, dir, depth, Bounce::Refraction, ctx);
+        }
+        color
+    }
+
+    fn spawn(
+        &self,
+        scene: &Scene,
+        si: &SurfaceInteraction,
+        dir: Vec3,
+        depth: u32,
+        kind: Bounce,
+        ctx: &mut TraceContext,
+    ) -> Vec3 {
+        match kind {
+            Bounce::Reflection => ctx.rays.reflection += 1,
+            Bounce::Refraction => ctx.rays.refraction += 1,
+        }
+        let ray = Ray::new(offset_ray_origin(si.p, si.p_error, si.n, dir), dir);
+        let hit = scene.intersect(&ray, f32::INFINITY, &mut ctx.traversal);
+        self.trace(scene, &ray, hit, depth + 1, ctx)
+    }
+}
+
+/// Whitted's local model: ambient, plus Lambertian diffuse and a Blinn-Phong highlight from every
+/// light a shadow ray reaches. Surfaces are two-sided: normals are turned towards the viewer.
+pub fn local_shading(
+    scene: &Scene,
+    m: &Material,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    ctx: &mut TraceContext,
+) -> Vec3 {
+    let albedo = m.albedo(si.uv);
+    let mut color = m.ambient * scene.ambient * albedo;
+    if m.diffuse == 0.0 && m.specular == 0.0 {
+        return color;
+    }
+    let wo = wo.normalize();
+    let ns = if si.ns.dot(wo) < 0.0 { -si.ns } else { si.ns };
+    for light in &scene.lights {
+        let (wi, radiance, shadow_ray, t_max) = match *light {
+            Light::Point {
+                position,
+                intensity,
+            } => {
+                let to_light = position - si.p;
+                let d2 = to_light.length_squared();
+                if d2 == 0.0 {
+                    continue;
+                }
+                let wi = to_light / d2.sqrt();
+                let origin = offset_ray_origin(si.p, si.p_error, si.n, wi);
+                (
+                    wi,
+                    intensity / d2,
+                    Ray::new(origin, position - origin),
+                    1.0 - SHADOW_EPSILON,
+                )
+            }
+            Light::Directional {
+                direction,
+                radiance,
+            } => {
+                let wi = -direction;
+                let origin = offset_ray_origin(si.p, si.p_error, si.n, wi);
+                (wi, radiance, Ray::new(origin, wi), f32::INFINITY)
+            }
+        };
+        let cos = ns.dot(wi);
+        // A light behind the shading normal, or below the geometric surface, cannot light this side.
+        if cos <= 0.0 || si.n.dot(wi) * si.n.dot(wo) <= 0.0 {
+            continue;
+        }
+        ctx.rays.shadow += 1;
+        if scene.occluded(&shadow_ray, t_max, &mut ctx.traversal) {
+            continue;
+        }
+        let h = (wi + wo).normalize();
+        let highlight = if m.specular > 0.0 {
+            m.specular * ns.dot(h).max(0.0).powf(m.shininess)
+        } else {
+            0.0
+        };
+        color += radiance * (m.diffuse * cos * albedo + Vec3::splat(highlight));
+    }
+    color
+}

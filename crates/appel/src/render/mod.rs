@@ -1,0 +1,185 @@
+//! Rendering: camera rays over image tiles in parallel, an integrator per ray, results on a film.
+
+mod film;
+pub mod integrator;
+pub mod optics;
+
+pub use film::{Film, PixelAov, MISS_ID};
+pub use integrator::{Integrator, Raycast, Whitted};
+
+use crate::accel::TraversalStats;
+use crate::error::{Error, Result};
+use crate::math::Vec3;
+use crate::scene::{IntegratorKind, Scene};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// Side of the square tiles the image is cut into; each tile is one parallel task.
+pub const TILE_SIZE: u32 = 16;
+
+/// Rays cast, by kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    pub camera: u64,
+    pub shadow: u64,
+    pub reflection: u64,
+    pub refraction: u64,
+}
+
+impl RayCounts {
+    pub fn total(&self) -> u64 {
+        self.camera + self.shadow + self.reflection + self.refraction
+    }
+
+    fn merge(&mut self, o: &RayCounts) {
+        self.camera += o.camera;
+        self.shadow += o.shadow;
+        self.reflection += o.reflection;
+        self.refraction += o.refraction;
+    }
+}
+
+/// Per-thread tallies carried along every ray.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TraceContext {
+    pub rays: RayCounts,
+    pub traversal: TraversalStats,
+}
+
+/// What a render did.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RenderStats {
+    pub time: Duration,
+    pub rays: RayCounts,
+    pub traversal: TraversalStats,
+}
+
+impl RenderStats {
+    pub fn mrays_per_second(&self) -> f64 {
+        self.rays.total() as f64 / self.time.as_secs_f64().max(1e-9) / 1e6
+    }
+}
+
+/// How to render, beyond what the scene says.
+#[derive(Default)]
+pub struct RenderOptions<'a> {
+    /// Called with the number of pixels finished so far, after each tile.
+    pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
+    /// When set (Ctrl-C), the render stops after the tiles in flight and returns [`Error::Cancelled`].
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+/// Sub-pixel positions: sample 0 is the pixel centre (so `spp = 1` is exactly the convention's
+/// centre ray, and AOVs describe the centre); the rest follow the R2 low-discrepancy sequence
+/// (Roberts 2018), the same in every pixel, so the image is a pure function of the scene.
+fn sample_offset(s: u32) -> (f32, f32) {
+    const A1: f64 = 0.754_877_666_246_692_7;
+    const A2: f64 = 0.569_840_290_998_053_2;
+    let s = s as f64;
+    ((0.5 + A1 * s).fract() as f32, (0.5 + A2 * s).fract() as f32)
+}
+
+/// Renders the scene with its own integrator on the current rayon thread pool. The result does not
+/// depend on the number of threads: every pixel is computed alone, from the scene only.
+pub fn render(scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
+    match scene.settings.integrator {
+        IntegratorKind::Raycast => render_with(scene, &Raycast, options),
+        IntegratorKind::Whitted => render_with(
+            scene,
+            &Whitted {
+                max_depth: scene.settings.max_depth,
+            },
+            options,
+        ),
+    }
+}
+
+struct Tile {
+    x0: u32,
+    y0: u32,
+    x1: u32,
+    y1: u32,
+}
+
+pub fn render_with<I: Integrator>(
+    scene: &Scene,
+    integrator: &I,
+    options: &RenderOptions,
+) -> Result<(Film, RenderStats)> {
+    let start = Instant::now();
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let tiles: Vec<Tile> = (0..h.div_ceil(TILE_SIZE))
+        .flat_map(|ty| {
+            (0..w.div_ceil(TILE_SIZE)).map(move |tx| Tile {
+                x0: tx * TILE_SIZE,
+                y0: ty * TILE_SIZE,
+                x1: ((tx + 1) * TILE_SIZE).min(w),
+                y1: ((ty + 1) * TILE_SIZE).min(h),
+            })
+        })
+        .collect();
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let spp = scene.settings.spp.max(1);
+    let results: Vec<Option<(Vec<(Vec3, PixelAov)>, TraceContext)>> = tiles
+        .par_iter()
+        .map(|tile| {
+            if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                return None;
+            }
+            let mut ctx = TraceContext::default();
+            let mut pixels =
+                Vec::with_capacity(((tile.x1 - tile.x0) * (tile.y1 - tile.y0)) as usize);
+            for y in tile.y0..tile.y1 {
+                for x in tile.x0..tile.x1 {
+                    let mut sum = Vec3::ZERO;
+                    let mut aov = PixelAov::MISS;
+                    for s in 0..spp {
+                        let (dx, dy) = sample_offset(s);
+                        let ray = scene.camera.ray(x as f32 + dx, y as f32 + dy);
+                        ctx.rays.camera += 1;
+                        let hit = scene.intersect(&ray, f32::INFINITY, &mut ctx.traversal);
+                        if s == 0 {
+                            if let Some(hit) = hit {
+                                let si = scene.geometry.interaction(&ray, &hit);
+                                aov = PixelAov {
+                                    depth: hit.t,
+                                    normal: si.ns,
+                                    shape_id: hit.shape,
+                                    prim_id: hit.prim,
+                                };
+                            }
+                        }
+                        sum += integrator.radiance(scene, &ray, hit, &mut ctx);
+                    }
+                    pixels.push((sum / spp as f32, aov));
+                }
+            }
+            let n = pixels.len() as u64;
+            let finished = done.fetch_add(n, Ordering::Relaxed) + n;
+            if let Some(p) = options.progress {
+                p(finished);
+            }
+            Some((pixels, ctx))
+        })
+        .collect();
+    let mut film = Film::new(w, h);
+    let mut stats = RenderStats::default();
+    for (tile, result) in tiles.iter().zip(results) {
+        let Some((pixels, ctx)) = result else {
+            return Err(Error::Cancelled);
+        };
+        stats.rays.merge(&ctx.rays);
+        stats.traversal.merge(&ctx.traversal);
+        let mut it = pixels.into_iter();
+        for y in tile.y0..tile.y1 {
+            for x in tile.x0..tile.x1 {
+                if let Some((rgb, aov)) = it.next() {
+                    film.set(x, y, rgb, aov);
+                }
+            }
+        }
+    }
+    stats.time = start.elapsed();
+    Ok((film, stats))
+}

@@ -1,0 +1,276 @@
+//! The scene file's schema: plain serde data, exactly what the user wrote (with defaults filled in).
+//! `docs/scene-format.md` documents every key. Unknown keys are rejected.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+pub type Vec3f = [f32; 3];
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Description {
+    pub camera: CameraDesc,
+    #[serde(default)]
+    pub render: RenderDesc,
+    #[serde(default)]
+    pub environment: EnvironmentDesc,
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialDesc>,
+    #[serde(default, rename = "shape", skip_serializing_if = "Vec::is_empty")]
+    pub shapes: Vec<ShapeDesc>,
+    #[serde(default, rename = "light", skip_serializing_if = "Vec::is_empty")]
+    pub lights: Vec<LightDesc>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    pub eye: Vec3f,
+    pub look_at: Vec3f,
+    #[serde(default = "default_up")]
+    pub up: Vec3f,
+    /// Vertical field of view in degrees.
+    #[serde(default = "default_fov")]
+    pub fov: f32,
+    #[serde(default = "default_width")]
+    pub width: u32,
+    #[serde(default = "default_height")]
+    pub height: u32,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RenderDesc {
+    #[serde(default = "default_integrator")]
+    pub integrator: String,
+    #[serde(default = "default_max_depth")]
+    pub max_depth: u32,
+    #[serde(default = "default_accel")]
+    pub accel: String,
+    /// Samples per pixel; 1 means exactly the pixel centre.
+    #[serde(default = "default_spp")]
+    pub spp: u32,
+    /// Ray-triangle test: "watertight" or "moller".
+    #[serde(default = "default_triangle")]
+    pub triangle: String,
+}
+
+impl Default for RenderDesc {
+    fn default() -> Self {
+        Self {
+            integrator: default_integrator(),
+            max_depth: default_max_depth(),
+            accel: default_accel(),
+            spp: default_spp(),
+            triangle: default_triangle(),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentDesc {
+    /// Radiance of rays that leave the scene.
+    #[serde(default = "default_background")]
+    pub background: Vec3f,
+    /// Ambient light, scaled by each material's `ambient` coefficient.
+    #[serde(default = "default_ambient_light")]
+    pub ambient: Vec3f,
+}
+
+impl Default for EnvironmentDesc {
+    fn default() -> Self {
+        Self {
+            background: default_background(),
+            ambient: default_ambient_light(),
+        }
+    }
+}
+
+/// Whitted's shading model: `ambient * ka + sum over visible lights (kd * color * cos + ks * blinn^n)
+/// + kr * reflected + kt * transmitted`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialDesc {
+    /// Base (diffuse) colour, linear RGB.
+    #[serde(default = "default_color")]
+    pub color: Vec3f,
+    /// Optional procedural checkerboard alternating `color` and `checker.color`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checker: Option<CheckerDesc>,
+    #[serde(default = "default_ka")]
+    pub ambient: f32,
+    #[serde(default = "default_kd")]
+    pub diffuse: f32,
+    #[serde(default)]
+    pub specular: f32,
+    #[serde(default = "default_shininess")]
+    pub shininess: f32,
+    #[serde(default)]
+    pub reflection: f32,
+    #[serde(default)]
+    pub transmission: f32,
+    #[serde(default = "default_ior")]
+    pub ior: f32,
+    /// Weight reflection and transmission by the Fresnel reflectance instead of fixed coefficients.
+    #[serde(default)]
+    pub fresnel: bool,
+}
+
+impl Default for MaterialDesc {
+    fn default() -> Self {
+        Self {
+            color: default_color(),
+            checker: None,
+            ambient: default_ka(),
+            diffuse: default_kd(),
+            specular: 0.0,
+            shininess: default_shininess(),
+            reflection: 0.0,
+            transmission: 0.0,
+            ior: default_ior(),
+            fresnel: false,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CheckerDesc {
+    /// The second colour of the board.
+    pub color: Vec3f,
+    /// Side of one square in surface units (scene units on planes).
+    #[serde(default = "default_checker_size")]
+    pub size: f32,
+}
+
+/// One `[[shape]]`. Which keys apply depends on `type`; validation rejects the others.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ShapeDesc {
+    #[serde(rename = "type")]
+    pub kind: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    // sphere
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center: Option<Vec3f>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f32>,
+    // plane
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<Vec3f>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal: Option<Vec3f>,
+    /// A finite plane: a `size[0]` x `size[1]` rectangle centred on `point`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<[f32; 2]>,
+    // triangle
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertices: Option<[Vec3f; 3]>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LightDesc {
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// Point lights: position. Intensity falls off with the inverse square of the distance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<Vec3f>,
+    /// Directional lights: the direction the light travels.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<Vec3f>,
+    #[serde(default = "default_light_color")]
+    pub color: Vec3f,
+    #[serde(default = "default_intensity")]
+    pub intensity: f32,
+}
+
+fn default_up() -> Vec3f {
+    [0.0, 1.0, 0.0]
+}
+fn default_fov() -> f32 {
+    45.0
+}
+fn default_width() -> u32 {
+    640
+}
+fn default_height() -> u32 {
+    480
+}
+fn default_integrator() -> String {
+    "whitted".into()
+}
+fn default_max_depth() -> u32 {
+    5
+}
+fn default_accel() -> String {
+    crate::accel::AccelKind::default().name().into()
+}
+fn default_spp() -> u32 {
+    1
+}
+fn default_triangle() -> String {
+    "watertight".into()
+}
+fn default_background() -> Vec3f {
+    [0.0, 0.0, 0.0]
+}
+fn default_ambient_light() -> Vec3f {
+    [1.0, 1.0, 1.0]
+}
+fn default_color() -> Vec3f {
+    [0.8, 0.8, 0.8]
+}
+fn default_ka() -> f32 {
+    0.1
+}
+fn default_kd() -> f32 {
+    0.9
+}
+fn default_shininess() -> f32 {
+    32.0
+}
+fn default_ior() -> f32 {
+    1.5
+}
+fn default_checker_size() -> f32 {
+    1.0
+}
+fn default_light_color() -> Vec3f {
+    [1.0, 1.0, 1.0]
+}
+fn default_intensity() -> f32 {
+    1.0
+}
+
+impl Description {
+    /// The same scene uniformly scaled by `s` about the origin, camera included. Point-light
+    /// intensities scale by `s^2` so that inverse-square falloff leaves the image unchanged.
+    pub fn scaled(&self, s: f32) -> Description {
+        let sc = |v: Vec3f| v.map(|x| x * s);
+        let mut d = self.clone();
+        d.camera.eye = sc(d.camera.eye);
+        d.camera.look_at = sc(d.camera.look_at);
+        for m in d.materials.values_mut() {
+            if let Some(c) = &mut m.checker {
+                c.size *= s;
+            }
+        }
+        for sh in &mut d.shapes {
+            sh.center = sh.center.map(sc);
+            sh.radius = sh.radius.map(|r| r * s);
+            sh.point = sh.point.map(sc);
+            sh.size = sh.size.map(|z| z.map(|x| x * s));
+            sh.vertices = sh.vertices.map(|v| v.map(sc));
+        }
+        for l in &mut d.lights {
+            if let Some(p) = &mut l.position {
+                *p = sc(*p);
+                l.intensity *= s * s;
+            }
+        }
+        d
+    }
+}

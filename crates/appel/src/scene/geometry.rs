@@ -1,0 +1,183 @@
+//! All the surfaces of a scene, flattened into one list of primitives for the acceleration structure.
+
+use crate::accel::{Hit, Primitives};
+use crate::geometry::{Plane, PrimHit, Sphere, SurfaceInteraction, TriangleMesh, TriangleTest};
+use crate::math::{Aabb, Ray, Vec3};
+
+/// One `[[shape]]` of the scene file.
+#[derive(Clone, Debug)]
+pub struct Shape {
+    pub kind: ShapeKind,
+    pub material: u32,
+}
+
+#[derive(Clone, Debug)]
+pub enum ShapeKind {
+    Sphere(Sphere),
+    Plane(Plane),
+    /// Index into [`Geometry::meshes`]; a single `triangle` shape is a one-triangle mesh.
+    Mesh(u32),
+}
+
+/// A primitive the acceleration structure sees: one sphere, one rectangle or one triangle of a mesh,
+/// named by its shape and its index inside that shape (8 bytes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PrimRef {
+    pub shape: u32,
+    pub index: u32,
+}
+
+/// Everything that can be hit.
+#[derive(Clone, Debug, Default)]
+pub struct Geometry {
+    pub shapes: Vec<Shape>,
+    pub meshes: Vec<TriangleMesh>,
+    /// Bounded primitives, in the order the acceleration structure indexes them.
+    pub prims: Vec<PrimRef>,
+    /// Shapes without finite bounds (infinite planes), tested separately for every ray.
+    pub unbounded: Vec<u32>,
+    pub triangle_test: TriangleTest,
+}
+
+/// A closest hit in the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneHit {
+    pub t: f32,
+    pub shape: u32,
+    /// Index of the primitive inside its shape (the triangle index in the mesh file's order).
+    pub prim: u32,
+    pub u: f32,
+    pub v: f32,
+}
+
+impl Geometry {
+    pub fn new(triangle_test: TriangleTest) -> Self {
+        Self {
+            triangle_test,
+            ..Default::default()
+        }
+    }
+
+    /// Adds a shape and its primitives; returns its id.
+    pub fn push(&mut self, kind: ShapeKind, material: u32) -> u32 {
+        let id = self.shapes.len() as u32;
+        match &kind {
+            ShapeKind::Sphere(_) => self.prims.push(PrimRef {
+                shape: id,
+                index: 0,
+            }),
+            ShapeKind::Plane(p) if p.half_size.is_none() => self.unbounded.push(id),
+            ShapeKind::Plane(_) => self.prims.push(PrimRef {
+                shape: id,
+                index: 0,
+            }),
+            ShapeKind::Mesh(m) => {
+                let n = self.meshes[*m as usize].triangle_count() as u32;
+                self.prims
+                    .extend((0..n).map(|index| PrimRef { shape: id, index }));
+            }
+        }
+        self.shapes.push(Shape { kind, material });
+        id
+    }
+
+    pub fn push_mesh(&mut self, mesh: TriangleMesh, material: u32) -> u32 {
+        self.meshes.push(mesh);
+        self.push(ShapeKind::Mesh(self.meshes.len() as u32 - 1), material)
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.triangle_count()).sum()
+    }
+
+    /// Bounds of everything bounded.
+    pub fn bounds(&self) -> Aabb {
+        (0..self.prims.len()).fold(Aabb::EMPTY, |b, i| b.union(Primitives::bounds(self, i)))
+    }
+
+    #[inline]
+    fn intersect_shape(&self, shape: u32, index: u32, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+        match &self.shapes[shape as usize].kind {
+            ShapeKind::Sphere(s) => s.intersect(ray, t_max),
+            ShapeKind::Plane(p) => p.intersect(ray, t_max),
+            ShapeKind::Mesh(m) => {
+                self.meshes[*m as usize].intersect(index as usize, ray, t_max, self.triangle_test)
+            }
+        }
+    }
+
+    /// Closest hit among the unbounded shapes nearer than `t_max`.
+    pub fn intersect_unbounded(&self, ray: &Ray, t_max: f32) -> Option<SceneHit> {
+        let mut best = None;
+        let mut t_max = t_max;
+        for &shape in &self.unbounded {
+            if let Some(h) = self.intersect_shape(shape, 0, ray, t_max) {
+                t_max = h.t;
+                best = Some(SceneHit {
+                    t: h.t,
+                    shape,
+                    prim: 0,
+                    u: h.u,
+                    v: h.v,
+                });
+            }
+        }
+        best
+    }
+
+    pub fn occluded_unbounded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.unbounded
+            .iter()
+            .any(|&s| self.intersect_shape(s, 0, ray, t_max).is_some())
+    }
+
+    /// Turns an acceleration-structure hit into a scene hit.
+    pub fn scene_hit(&self, hit: Hit) -> SceneHit {
+        let r = self.prims[hit.prim as usize];
+        SceneHit {
+            t: hit.t,
+            shape: r.shape,
+            prim: r.index,
+            u: hit.u,
+            v: hit.v,
+        }
+    }
+
+    pub fn interaction(&self, ray: &Ray, hit: &SceneHit) -> SurfaceInteraction {
+        let ph = PrimHit {
+            t: hit.t,
+            u: hit.u,
+            v: hit.v,
+        };
+        match &self.shapes[hit.shape as usize].kind {
+            ShapeKind::Sphere(s) => s.interaction(ray, &ph),
+            ShapeKind::Plane(p) => p.interaction(ray, &ph),
+            ShapeKind::Mesh(m) => self.meshes[*m as usize].interaction(hit.prim as usize, &ph),
+        }
+    }
+}
+
+impl Primitives for Geometry {
+    fn count(&self) -> usize {
+        self.prims.len()
+    }
+
+    fn bounds(&self, i: usize) -> Aabb {
+        let r = self.prims[i];
+        match &self.shapes[r.shape as usize].kind {
+            ShapeKind::Sphere(s) => s.bounds(),
+            ShapeKind::Plane(p) => p.bounds().unwrap_or(Aabb::EMPTY),
+            ShapeKind::Mesh(m) => self.meshes[*m as usize].triangle_bounds(r.index as usize),
+        }
+    }
+
+    fn centroid(&self, i: usize) -> Vec3 {
+        Primitives::bounds(self, i).center()
+    }
+
+    #[inline]
+    fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+        let r = self.prims[i];
+        self.intersect_shape(r.shape, r.index, ray, t_max)
+    }
+}

@@ -1,0 +1,240 @@
+//! From a scene description to a scene ready to render: geometry, acceleration structure, materials,
+//! lights and camera.
+
+pub mod builtin;
+mod camera;
+pub mod description;
+mod geometry;
+mod light;
+mod material;
+pub mod parse;
+pub mod validate;
+
+pub use camera::Camera;
+pub use description::Description;
+pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind};
+pub use light::Light;
+pub use material::{Checker, Material};
+
+use crate::accel::{Accel, AccelKind, AccelStats, TraversalStats};
+use crate::error::{Error, Location, Result};
+use crate::geometry::{Plane, Sphere, TriangleMesh, TriangleTest};
+use crate::math::{Ray, Vec2, Vec3};
+use parse::{parse_description, toml_span, PathSeg, Syntax};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Which integrator renders the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorKind {
+    Raycast,
+    Whitted,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub integrator: IntegratorKind,
+    pub max_depth: u32,
+    pub spp: u32,
+    pub accel: AccelKind,
+}
+
+/// How long building the scene took, phase by phase.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SceneTimings {
+    /// Reading files and creating the geometry.
+    pub load: Duration,
+    /// Building the acceleration structure.
+    pub build: Duration,
+}
+
+/// A scene ready to render.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub camera: Camera,
+    pub settings: RenderSettings,
+    pub geometry: Geometry,
+    pub accel: Accel,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    pub background: Vec3,
+    pub ambient: Vec3,
+    pub timings: SceneTimings,
+}
+
+/// A scene description read from a file, and the folder its relative paths are relative to.
+#[derive(Clone, Debug)]
+pub struct LoadedDescription {
+    pub description: Description,
+    pub base_dir: PathBuf,
+}
+
+/// Reads and validates a scene file (TOML, or JSON by extension).
+pub fn load_description(path: &Path) -> Result<LoadedDescription> {
+    let syntax = Syntax::from_path(path).ok_or_else(|| {
+        Error::input(
+            Location::file(path),
+            "unknown scene file extension: expected .toml or .json",
+        )
+    })?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        Error::input(
+            Location::byte(path, e.utf8_error().valid_up_to() as u64),
+            "the scene file is not valid UTF-8 text",
+        )
+    })?;
+    let description = description_from_str(&text, syntax, path)?;
+    let base_dir = path
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
+    Ok(LoadedDescription {
+        description,
+        base_dir,
+    })
+}
+
+/// Parses and validates scene text; `origin` names it in error messages.
+pub fn description_from_str(text: &str, syntax: Syntax, origin: &Path) -> Result<Description> {
+    let description = parse_description(text, syntax, origin)?;
+    validate::validate(&description).map_err(|invalid| {
+        let location = match syntax {
+            Syntax::Toml => toml_span(text, &invalid.path)
+                .map(|span| {
+                    let (line, col) = parse::line_column(text, span.start);
+                    Location::line(origin, line, Some(col))
+                })
+                .unwrap_or_else(|| Location::file(origin)),
+            Syntax::Json => Location::file(origin),
+        };
+        let message = format!("{}: {}", path_string(&invalid.path), invalid.message);
+        Error::input(location, message)
+    })?;
+    Ok(description)
+}
+
+/// `shape[2].radius`, for messages.
+fn path_string(path: &[PathSeg]) -> String {
+    let mut s = String::new();
+    for seg in path {
+        match seg {
+            PathSeg::Key(k) => {
+                if !s.is_empty() {
+                    s.push('.');
+                }
+                s.push_str(k);
+            }
+            PathSeg::Index(i) => s.push_str(&format!("[{i}]")),
+        }
+    }
+    s
+}
+
+impl Scene {
+    /// Builds a scene from a validated description. `base_dir` resolves relative file names.
+    pub fn new(d: &Description, _base_dir: &Path) -> Result<Scene> {
+        let load_start = Instant::now();
+        let settings = RenderSettings {
+            integrator: match d.render.integrator.as_str() {
+                "raycast" => IntegratorKind::Raycast,
+                _ => IntegratorKind::Whitted,
+            },
+            max_depth: d.render.max_depth,
+            spp: d.render.spp,
+            accel: AccelKind::from_name(&d.render.accel).ok_or_else(|| {
+                Error::Invalid(format!(
+                    "unknown acceleration structure `{}`",
+                    d.render.accel
+                ))
+            })?,
+        };
+        let triangle_test = match d.render.triangle.as_str() {
+            "moller" => TriangleTest::Moller,
+            _ => TriangleTest::Watertight,
+        };
+        // Material 0 is the default grey diffuse of shapes that name none.
+        let names: Vec<&String> = d.materials.keys().collect();
+        let mut materials = vec![Material::new(&Default::default())];
+        materials.extend(d.materials.values().map(Material::new));
+        let mut geometry = Geometry::new(triangle_test);
+        for s in &d.shapes {
+            let material = s
+                .material
+                .as_ref()
+                .and_then(|m| names.iter().position(|n| *n == m))
+                .map_or(0, |i| i as u32 + 1);
+            match s.kind.as_str() {
+                "sphere" => {
+                    let (Some(c), Some(r)) = (s.center, s.radius) else {
+                        return Err(Error::Invalid("a sphere needs center and radius".into()));
+                    };
+                    geometry.push(ShapeKind::Sphere(Sphere::new(c.into(), r)), material);
+                }
+                "plane" => {
+                    let (Some(p), Some(n)) = (s.point, s.normal) else {
+                        return Err(Error::Invalid("a plane needs point and normal".into()));
+                    };
+                    let plane = Plane::rectangle(p.into(), n.into(), s.size.map(Vec2::from));
+                    geometry.push(ShapeKind::Plane(plane), material);
+                }
+                "triangle" => {
+                    let Some(v) = s.vertices else {
+                        return Err(Error::Invalid("a triangle needs vertices".into()));
+                    };
+                    let mesh = TriangleMesh {
+                        positions: v.iter().map(|&p| p.into()).collect(),
+                        indices: vec![[0, 1, 2]],
+                        normals: None,
+                        uvs: None,
+                    };
+                    geometry.push_mesh(mesh, material);
+                }
+                other => return Err(Error::Invalid(format!("unknown shape type `{other}`"))),
+            }
+        }
+        let load = load_start.elapsed();
+        let build_start = Instant::now();
+        let accel = Accel::build(settings.accel, &geometry);
+        let build = build_start.elapsed();
+        Ok(Scene {
+            camera: Camera::new(&d.camera),
+            settings,
+            geometry,
+            accel,
+            materials,
+            lights: d.lights.iter().map(Light::new).collect(),
+            background: d.environment.background.into(),
+            ambient: d.environment.ambient.into(),
+            timings: SceneTimings { load, build },
+        })
+    }
+
+    /// Closest hit in `(0, t_max)`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<SceneHit> {
+        let bounded = self
+            .accel
+            .intersect(&self.geometry, ray, t_max, stats)
+            .map(|h| self.geometry.scene_hit(h));
+        let t_max = bounded.map_or(t_max, |h| h.t);
+        self.geometry.intersect_unbounded(ray, t_max).or(bounded)
+    }
+
+    /// Whether anything lies on the ray in `(0, t_max)`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> bool {
+        self.geometry.occluded_unbounded(ray, t_max)
+            || self.accel.occluded(&self.geometry, ray, t_max, stats)
+    }
+
+    pub fn material(&self, hit: &SceneHit) -> &Material {
+        &self.materials[self.geometry.shapes[hit.shape as usize].material as usize]
+    }
+
+    pub fn accel_stats(&self) -> AccelStats {
+        let mut s = self.accel.stats();
+        s.build_time = self.timings.build;
+        s
+    }
+}

@@ -1,0 +1,316 @@
+//! Checks that a parsed [`Description`] makes sense, before anything is built from it. Each problem is
+//! reported with the path of the offending value, which the loader turns into a line and column.
+
+use super::description::{Description, ShapeDesc, Vec3f};
+use super::parse::PathSeg;
+use crate::accel::AccelKind;
+
+/// The largest image Appel agrees to render: the film holds about 40 bytes per pixel with AOVs, so
+/// this is 4 GB.
+pub const MAX_PIXELS: u64 = 100_000_000;
+pub const MAX_DIMENSION: u32 = 65_536;
+pub const MAX_DEPTH: u32 = 64;
+pub const MAX_SPP: u32 = 65_536;
+pub const INTEGRATORS: &[&str] = &["raycast", "whitted"];
+pub const TRIANGLE_TESTS: &[&str] = &["watertight", "moller"];
+pub const SHAPE_TYPES: &[&str] = &["sphere", "plane", "triangle"];
+pub const LIGHT_TYPES: &[&str] = &["point", "directional"];
+
+/// A problem and where it is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Invalid {
+    pub path: Vec<PathSeg>,
+    pub message: String,
+}
+
+struct Checker {
+    path: Vec<PathSeg>,
+}
+
+type Check = Result<(), Invalid>;
+
+impl Checker {
+    fn fail<T>(&self, key: &str, message: impl Into<String>) -> Result<T, Invalid> {
+        let mut path = self.path.clone();
+        if !key.is_empty() {
+            path.push(PathSeg::Key(key.into()));
+        }
+        Err(Invalid {
+            path,
+            message: message.into(),
+        })
+    }
+
+    fn at<R>(&mut self, seg: PathSeg, f: impl FnOnce(&mut Self) -> R) -> R {
+        self.path.push(seg);
+        let r = f(self);
+        self.path.pop();
+        r
+    }
+
+    fn finite(&self, key: &str, v: &[f32]) -> Check {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            self.fail(key, format!("`{key}` must be finite, got {v:?}"))
+        }
+    }
+
+    fn non_negative(&self, key: &str, v: &[f32]) -> Check {
+        self.finite(key, v)?;
+        if v.iter().all(|&x| x >= 0.0) {
+            Ok(())
+        } else {
+            self.fail(key, format!("`{key}` must not be negative, got {v:?}"))
+        }
+    }
+
+    fn positive(&self, key: &str, v: f32) -> Check {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            self.fail(key, format!("`{key}` must be a positive number, got {v}"))
+        }
+    }
+
+    fn non_zero(&self, key: &str, v: Vec3f) -> Check {
+        self.finite(key, &v)?;
+        if v.iter().any(|&x| x != 0.0) {
+            Ok(())
+        } else {
+            self.fail(key, format!("`{key}` must be a non-zero vector"))
+        }
+    }
+
+    fn one_of(&self, key: &str, value: &str, options: &[&str]) -> Check {
+        if options.contains(&value) {
+            Ok(())
+        } else {
+            self.fail(
+                key,
+                format!(
+                    "unknown {key} `{value}`, expected one of: {}",
+                    options.join(", ")
+                ),
+            )
+        }
+    }
+}
+
+pub fn validate(d: &Description) -> Result<(), Invalid> {
+    let mut c = Checker { path: vec![] };
+    c.at(key("camera"), |c| camera(c, d))?;
+    c.at(key("render"), |c| render(c, d))?;
+    c.at(key("environment"), |c| {
+        c.non_negative("background", &d.environment.background)?;
+        c.non_negative("ambient", &d.environment.ambient)
+    })?;
+    for (name, m) in &d.materials {
+        c.at(key("materials"), |c| {
+            c.at(key(name), |c| {
+                c.non_negative("color", &m.color)?;
+                for (k, v) in [
+                    ("ambient", m.ambient),
+                    ("diffuse", m.diffuse),
+                    ("specular", m.specular),
+                    ("shininess", m.shininess),
+                    ("reflection", m.reflection),
+                    ("transmission", m.transmission),
+                ] {
+                    c.non_negative(k, &[v])?;
+                }
+                c.positive("ior", m.ior)?;
+                if let Some(ch) = &m.checker {
+                    c.at(key("checker"), |c| {
+                        c.non_negative("color", &ch.color)?;
+                        c.positive("size", ch.size)
+                    })?;
+                }
+                Ok(())
+            })
+        })?;
+    }
+    for (i, s) in d.shapes.iter().enumerate() {
+        c.at(key("shape"), |c| {
+            c.at(PathSeg::Index(i), |c| shape(c, d, s))
+        })?;
+    }
+    for (i, l) in d.lights.iter().enumerate() {
+        c.at(key("light"), |c| {
+            c.at(PathSeg::Index(i), |c| {
+                c.one_of("type", &l.kind, LIGHT_TYPES)?;
+                c.non_negative("color", &l.color)?;
+                c.non_negative("intensity", &[l.intensity])?;
+                match l.kind.as_str() {
+                    "point" => {
+                        let Some(p) = l.position else {
+                            return c.fail("", "a point light needs `position`");
+                        };
+                        c.finite("position", &p)?;
+                        if l.direction.is_some() {
+                            return c.fail("direction", "a point light has no `direction`");
+                        }
+                    }
+                    _ => {
+                        let Some(dir) = l.direction else {
+                            return c.fail("", "a directional light needs `direction`");
+                        };
+                        c.non_zero("direction", dir)?;
+                        if l.position.is_some() {
+                            return c.fail("position", "a directional light has no `position`");
+                        }
+                    }
+                }
+                Ok(())
+            })
+        })?;
+    }
+    Ok(())
+}
+
+fn key(k: &str) -> PathSeg {
+    PathSeg::Key(k.to_string())
+}
+
+fn camera(c: &mut Checker, d: &Description) -> Check {
+    let cam = &d.camera;
+    c.finite("eye", &cam.eye)?;
+    c.finite("look_at", &cam.look_at)?;
+    c.non_zero("up", cam.up)?;
+    let eye = glam::Vec3::from(cam.eye);
+    let forward = glam::Vec3::from(cam.look_at) - eye;
+    if forward.length_squared() == 0.0 || !forward.is_finite() {
+        return c.fail("look_at", "`look_at` must differ from `eye`");
+    }
+    let up = glam::Vec3::from(cam.up);
+    let sine = forward.normalize().cross(up.normalize()).length();
+    if !(sine > 1e-6) {
+        return c.fail(
+            "up",
+            "`up` is parallel to the viewing direction (look_at - eye): the camera's roll is undefined",
+        );
+    }
+    if !(cam.fov > 0.0 && cam.fov < 180.0) {
+        return c.fail(
+            "fov",
+            format!(
+                "`fov` is the vertical field of view in degrees and must lie in (0, 180), got {}",
+                cam.fov
+            ),
+        );
+    }
+    for (k, v) in [("width", cam.width), ("height", cam.height)] {
+        if v == 0 || v > MAX_DIMENSION {
+            return c.fail(
+                k,
+                format!("`{k}` must be between 1 and {MAX_DIMENSION} pixels, got {v}"),
+            );
+        }
+    }
+    let pixels = cam.width as u64 * cam.height as u64;
+    if pixels > MAX_PIXELS {
+        return c.fail(
+            "width",
+            format!(
+                "{} x {} is {pixels} pixels, which needs about {:.1} GB of film; the limit is {MAX_PIXELS} pixels",
+                cam.width,
+                cam.height,
+                pixels as f64 * 40.0 / 1e9
+            ),
+        );
+    }
+    Ok(())
+}
+
+fn render(c: &mut Checker, d: &Description) -> Check {
+    let r = &d.render;
+    c.one_of("integrator", &r.integrator, INTEGRATORS)?;
+    if AccelKind::from_name(&r.accel).is_none() {
+        c.one_of("accel", &r.accel, AccelKind::NAMES)?;
+    }
+    c.one_of("triangle", &r.triangle, TRIANGLE_TESTS)?;
+    if r.max_depth > MAX_DEPTH {
+        return c.fail(
+            "max_depth",
+            format!(
+                "`max_depth` must be at most {MAX_DEPTH}, got {}",
+                r.max_depth
+            ),
+        );
+    }
+    if r.spp == 0 || r.spp > MAX_SPP {
+        return c.fail(
+            "spp",
+            format!("`spp` must be between 1 and {MAX_SPP}, got {}", r.spp),
+        );
+    }
+    Ok(())
+}
+
+fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
+    c.one_of("type", &s.kind, SHAPE_TYPES)?;
+    if let Some(m) = &s.material {
+        if !d.materials.contains_key(m) {
+            let known: Vec<&str> = d.materials.keys().map(|k| k.as_str()).collect();
+            return c.fail(
+                "material",
+                format!(
+                    "unknown material `{m}`; the scene defines: {}",
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            );
+        }
+    }
+    let present = [
+        ("center", s.center.is_some()),
+        ("radius", s.radius.is_some()),
+        ("point", s.point.is_some()),
+        ("normal", s.normal.is_some()),
+        ("size", s.size.is_some()),
+        ("vertices", s.vertices.is_some()),
+    ];
+    let (required, optional): (&[&str], &[&str]) = match s.kind.as_str() {
+        "sphere" => (&["center", "radius"], &[]),
+        "plane" => (&["point", "normal"], &["size"]),
+        _ => (&["vertices"], &[]),
+    };
+    for (k, is_present) in present {
+        if is_present && !required.contains(&k) && !optional.contains(&k) {
+            return c.fail(
+                k,
+                format!(
+                    "a {} has no `{k}` (it takes: {})",
+                    s.kind,
+                    [required, optional].concat().join(", ")
+                ),
+            );
+        }
+        if !is_present && required.contains(&k) {
+            return c.fail("", format!("a {} needs `{k}`", s.kind));
+        }
+    }
+    if let Some(center) = s.center {
+        c.finite("center", &center)?;
+    }
+    if let Some(r) = s.radius {
+        c.positive("radius", r)?;
+    }
+    if let Some(p) = s.point {
+        c.finite("point", &p)?;
+    }
+    if let Some(n) = s.normal {
+        c.non_zero("normal", n)?;
+    }
+    if let Some(size) = s.size {
+        c.positive("size", size[0])?;
+        c.positive("size", size[1])?;
+    }
+    if let Some(v) = s.vertices {
+        c.finite("vertices", v.as_flattened())?;
+    }
+    Ok(())
+}
