@@ -21,7 +21,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene file (or a built-in scene) to an image.
-    Render(render_cmd::RenderArgs),
+    Render(Box<render_cmd::RenderArgs>),
     /// List the built-in scenes, or print one as a scene file to edit.
     Scenes(scenes_cmd::ScenesArgs),
 }
@@ -29,7 +29,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => render_cmd::run(args),
+        Command::Render(args) => render_cmd::run(*args),
         Command::Scenes(args) => scenes_cmd::run(args),
     };
     match result {

@@ -63,6 +63,15 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let start = Instant::now();
     // Check the output name first, so a typo fails before a long render.
     ImageFormat::from_path(&args.output)?;
+    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if !dir.is_dir() {
+            bail!(
+                "cannot write {}: the folder {} does not exist",
+                args.output.display(),
+                dir.display()
+            );
+        }
+    }
     let aovs = match &args.aov {
         Some(list) => Aovs::parse(list).map_err(|e| anyhow!("--aov: {e}"))?,
         None => Aovs::default(),
@@ -172,6 +181,14 @@ fn read_scene(scene: Option<&str>) -> Result<(Description, PathBuf)> {
                 PathBuf::from("."),
             ));
         }
+        bail!(
+            "`{name}` is neither a scene file nor a built-in scene (built-in: {})",
+            appel::scene::builtin::BUILTIN_SCENES
+                .iter()
+                .map(|s| s.0)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
     }
     let loaded = load_description(path)?;
     Ok((loaded.description, loaded.base_dir))

@@ -95,6 +95,9 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderSta
     }
 }
 
+/// A finished tile: its pixels in row order, and what tracing them cost.
+type TileResult = (Vec<(Vec3, PixelAov)>, TraceContext);
+
 struct Tile {
     x0: u32,
     y0: u32,
@@ -121,7 +124,7 @@ pub fn render_with<I: Integrator>(
         .collect();
     let done = std::sync::atomic::AtomicU64::new(0);
     let spp = scene.settings.spp.max(1);
-    let results: Vec<Option<(Vec<(Vec3, PixelAov)>, TraceContext)>> = tiles
+    let results: Vec<Option<TileResult>> = tiles
         .par_iter()
         .map(|tile| {
             if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {

@@ -184,7 +184,8 @@ fn camera(c: &mut Checker, d: &Description) -> Check {
     }
     let up = glam::Vec3::from(cam.up);
     let sine = forward.normalize().cross(up.normalize()).length();
-    if !(sine > 1e-6) {
+    // Also catches NaN.
+    if sine.is_nan() || sine <= 1e-6 {
         return c.fail(
             "up",
             "`up` is parallel to the viewing direction (look_at - eye): the camera's roll is undefined",

@@ -1,0 +1,310 @@
+//! The command line as a user meets it: renders, built-in scenes, and every kind of bad input, which
+//! must exit non-zero with a message naming the file, line and column, and leave no output file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn appel(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_appel"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("appel runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+const CAMERA: &str = "[camera]\neye = [0.0, 1.0, 5.0]\nlook_at = [0.0, 1.0, 0.0]\n";
+
+/// Writes `scene` to a file, renders it, and checks the failure: non-zero exit, each of `expected`
+/// in the message, no panic, no output file.
+fn assert_rejected(name: &str, scene: &str, expected: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join(name), scene).unwrap();
+    let out = appel(&["render", name, "-o", "out.png", "--quiet"], dir.path());
+    let err = stderr(&out);
+    assert!(!out.status.success(), "{name} was accepted");
+    assert_eq!(out.status.code(), Some(1), "{name}: {err}");
+    assert!(!err.contains("panicked"), "{name} panicked: {err}");
+    for e in expected {
+        assert!(err.contains(e), "{name}: expected `{e}` in: {err}");
+    }
+    let leftovers: Vec<PathBuf> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.file_name().unwrap() != name)
+        .collect();
+    assert!(leftovers.is_empty(), "{name} left {leftovers:?}");
+}
+
+#[test]
+fn toml_syntax_error_names_line_and_column() {
+    assert_rejected(
+        "s.toml",
+        "[camera]\neye = [0.0, 1.0\nlook_at = [0,0,0]\n",
+        &["s.toml:3:1"],
+    );
+}
+
+#[test]
+fn unknown_key_is_rejected_with_the_expected_keys() {
+    assert_rejected(
+        "k.toml",
+        &format!("{CAMERA}focal = 3.0\n"),
+        &["k.toml:4:1", "unknown field `focal`", "expected one of"],
+    );
+}
+
+#[test]
+fn wrong_type_is_rejected() {
+    assert_rejected(
+        "t.toml",
+        &format!("{CAMERA}width = \"wide\"\n"),
+        &["t.toml:4:9", "expected u32"],
+    );
+}
+
+#[test]
+fn missing_camera_is_rejected() {
+    assert_rejected(
+        "c.toml",
+        "[render]\nmax_depth = 3\n",
+        &["c.toml", "missing field `camera`"],
+    );
+}
+
+#[test]
+fn negative_radius_is_rejected_at_its_line() {
+    let s = format!(
+        "{CAMERA}\n[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = -1.0\n"
+    );
+    assert_rejected(
+        "r.toml",
+        &s,
+        &["r.toml:8:10", "shape[0].radius", "positive"],
+    );
+}
+
+#[test]
+fn zero_and_parallel_up_are_rejected() {
+    let base = "[camera]\neye = [0.0, 1.0, 5.0]\nlook_at = [0.0, 1.0, 0.0]\n";
+    assert_rejected(
+        "z.toml",
+        &format!("{base}up = [0.0, 0.0, 0.0]\n"),
+        &["z.toml:4", "non-zero"],
+    );
+    assert_rejected(
+        "p.toml",
+        &format!("{base}up = [0.0, 0.0, -2.0]\n"),
+        &["p.toml:4", "parallel"],
+    );
+}
+
+#[test]
+fn fov_outside_the_open_interval_is_rejected() {
+    for fov in ["0.0", "180.0", "-10.0", "500.0"] {
+        assert_rejected(
+            "f.toml",
+            &format!("{CAMERA}fov = {fov}\n"),
+            &["f.toml:4:7", "(0, 180)"],
+        );
+    }
+}
+
+#[test]
+fn unknown_accel_and_integrator_are_rejected_with_the_choices() {
+    assert_rejected(
+        "a.toml",
+        &format!("{CAMERA}[render]\naccel = \"octree\"\n"),
+        &["a.toml:5:9", "unknown accel `octree`", "brute"],
+    );
+    assert_rejected(
+        "i.toml",
+        &format!("{CAMERA}[render]\nintegrator = \"path\"\n"),
+        &[
+            "i.toml:5:14",
+            "unknown integrator `path`",
+            "raycast, whitted",
+        ],
+    );
+}
+
+#[test]
+fn unknown_material_is_rejected() {
+    let s = format!("{CAMERA}[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"gold\"\n");
+    assert_rejected("m.toml", &s, &["m.toml:8:12", "unknown material `gold`"]);
+}
+
+#[test]
+fn absurd_resolution_is_rejected_before_allocating() {
+    assert_rejected(
+        "h.toml",
+        &format!("{CAMERA}width = 1000000\nheight = 1000000\n"),
+        &["h.toml:4:9", "width"],
+    );
+    assert_rejected(
+        "g.toml",
+        &format!("{CAMERA}width = 60000\nheight = 60000\n"),
+        &["g.toml", "GB"],
+    );
+}
+
+#[test]
+fn non_finite_numbers_are_rejected() {
+    assert_rejected(
+        "n.toml",
+        "[camera]\neye = [0.0, nan, 5.0]\nlook_at = [0.0, 1.0, 0.0]\n",
+        &["n.toml:2:7", "finite"],
+    );
+    assert_rejected(
+        "i.toml",
+        &format!("{CAMERA}[[light]]\ntype = \"point\"\nposition = [inf, 0.0, 0.0]\n"),
+        &["i.toml:6:12", "finite"],
+    );
+}
+
+#[test]
+fn json_scenes_use_the_same_schema_and_checks() {
+    assert_rejected(
+        "j.json",
+        r#"{"camera": {"eye": [0, 1, 5], "look_at": [0, 1, 0], "foo": 1}}"#,
+        &["j.json:1:", "unknown field `foo`"],
+    );
+    assert_rejected(
+        "k.json",
+        r#"{"camera": {"eye": [0, 1, 5], "look_at": [0, 1, 0], "fov": -3}}"#,
+        &["k.json", "fov"],
+    );
+}
+
+#[test]
+fn missing_scene_and_bad_output_are_rejected() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        vec!["render", "nope.toml", "-o", "x.png"],
+        vec!["render", "nope", "-o", "x.png"],
+        vec!["render", "-o", "x.jpg"],
+        vec!["render", "-o", "missing/x.png"],
+        vec!["render", "--aov", "depth,foo", "-o", "x.exr"],
+        vec!["render", "--aov", "depth", "-o", "x.png"],
+        vec!["render", "--size", "10", "-o", "x.png"],
+    ] {
+        let out = appel(&args, dir.path());
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        assert!(
+            stderr(&out).starts_with("error: "),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn default_render_writes_the_whitted_png_and_a_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = appel(&["render", "-o", "w.png", "--size", "64x48"], dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let summary = String::from_utf8_lossy(&out.stdout);
+    for word in [
+        "load",
+        "build",
+        "render",
+        "camera 3072",
+        "shadow",
+        "reflection",
+        "refraction",
+        "Mrays/s",
+    ] {
+        assert!(summary.contains(word), "summary lacks {word}: {summary}");
+    }
+    let png = std::fs::read(dir.path().join("w.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+}
+
+#[test]
+fn exr_carries_the_named_aov_channels() {
+    use exr::prelude::*;
+    let dir = tempfile::tempdir().unwrap();
+    let out = appel(
+        &[
+            "render",
+            "--size",
+            "32x24",
+            "--aov",
+            "depth,normal,primid",
+            "-o",
+            "a.exr",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let image = read_all_flat_layers_from_file(dir.path().join("a.exr")).unwrap();
+    let layer = &image.layer_data[0];
+    let names: Vec<String> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    for n in [
+        "R", "G", "B", "depth", "N.X", "N.Y", "N.Z", "shapeid", "primid",
+    ] {
+        assert!(
+            names.contains(&n.to_string()),
+            "no channel {n} in {names:?}"
+        );
+    }
+    let channel = |n: &str| {
+        &layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == n)
+            .unwrap()
+            .sample_data
+    };
+    let (FlatSamples::U32(ids), FlatSamples::F32(depth)) = (channel("primid"), channel("depth"))
+    else {
+        panic!("primid must be uint32 and depth float32");
+    };
+    // Top row is sky: a miss everywhere.
+    assert!(ids[..32].iter().all(|&i| i == u32::MAX));
+    assert!(depth[..32].iter().all(|d| d.is_infinite()));
+    // Bottom row is floor: shape 0, primitive 0, finite depth.
+    assert!(ids[32 * 23..].iter().all(|&i| i == 0));
+    assert!(depth[32 * 23..].iter().all(|d| d.is_finite() && *d > 0.0));
+}
+
+#[test]
+fn built_in_scenes_are_listed_and_written_as_valid_scene_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let list = appel(&["scenes"], dir.path());
+    let list = String::from_utf8_lossy(&list.stdout);
+    for name in ["whitted", "mirror-room", "glass-block"] {
+        assert!(list.contains(name));
+        let text = appel(&["scenes", "--write", name], dir.path());
+        assert!(text.status.success());
+        let file = format!("{name}.toml");
+        std::fs::write(dir.path().join(&file), &text.stdout).unwrap();
+        let out = appel(
+            &[
+                "render",
+                &file,
+                "--size",
+                "32x24",
+                "-o",
+                "x.png",
+                "--threads",
+                "1",
+            ],
+            dir.path(),
+        );
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+    }
+    assert!(!appel(&["scenes", "--write", "nope"], dir.path())
+        .status
+        .success());
+}
