@@ -68,12 +68,14 @@ mod tests {
 
     #[test]
     fn checker_alternates_between_neighbouring_squares() {
-        let mut d = MaterialDesc::default();
-        d.color = [1.0, 0.0, 0.0];
-        d.checker = Some(super::super::description::CheckerDesc {
-            color: [1.0, 1.0, 0.0],
-            size: 2.0,
-        });
+        let d = MaterialDesc {
+            color: [1.0, 0.0, 0.0],
+            checker: Some(super::super::description::CheckerDesc {
+                color: [1.0, 1.0, 0.0],
+                size: 2.0,
+            }),
+            ..Default::default()
+        };
         let m = Material::new(&d);
         let red = Vec3::new(1.0, 0.0, 0.0);
         let yellow = Vec3::new(1.0, 1.0, 0.0);
