@@ -9,6 +9,7 @@ pub mod error;
 pub mod geometry;
 pub mod io;
 pub mod math;
+pub mod query;
 pub mod render;
 pub mod scene;
 

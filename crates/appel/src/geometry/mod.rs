@@ -5,6 +5,7 @@
 
 mod mesh;
 mod plane;
+pub mod procedural;
 mod sphere;
 pub mod triangle;
 
