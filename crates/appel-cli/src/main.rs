@@ -1,6 +1,7 @@
 //! `appel`: the command-line front end. Each subcommand lives in its own file; the library does all
 //! the work.
 
+mod bench_cmd;
 mod render_cmd;
 mod scenes_cmd;
 
@@ -22,6 +23,8 @@ struct Cli {
 enum Command {
     /// Render a scene file (or a built-in scene) to an image.
     Render(Box<render_cmd::RenderArgs>),
+    /// Measure acceleration structures: build time, memory and ray throughput.
+    Bench(bench_cmd::BenchArgs),
     /// List the built-in scenes, or print one as a scene file to edit.
     Scenes(scenes_cmd::ScenesArgs),
 }
@@ -31,6 +34,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render_cmd::run(*args),
         Command::Scenes(args) => scenes_cmd::run(args),
+        Command::Bench(args) => bench_cmd::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

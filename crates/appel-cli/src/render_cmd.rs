@@ -170,7 +170,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
 }
 
 /// A scene file, or a built-in scene by name.
-fn read_scene(scene: Option<&str>) -> Result<(Description, PathBuf)> {
+pub fn read_scene(scene: Option<&str>) -> Result<(Description, PathBuf)> {
     let name = scene.unwrap_or("whitted");
     let path = Path::new(name);
     if Syntax::from_path(path).is_none() && !path.exists() {
@@ -192,6 +192,13 @@ fn read_scene(scene: Option<&str>) -> Result<(Description, PathBuf)> {
     }
     let loaded = load_description(path)?;
     Ok((loaded.description, loaded.base_dir))
+}
+
+/// `640x480` to `(640, 480)`.
+pub fn parse_size(size: &str) -> Result<(u32, u32)> {
+    size.split_once(['x', 'X'])
+        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
+        .ok_or_else(|| anyhow!("--size: expected WIDTHxHEIGHT such as 640x480, got `{size}`"))
 }
 
 fn parse_vec3(flag: &str, s: &str) -> Result<[f32; 3]> {

@@ -70,7 +70,7 @@ pub enum Error {
     #[error("{0}")]
     Invalid(String),
     /// The render was stopped before it finished (Ctrl-C); nothing was written.
-    #[error("cancelled")]
+    #[error("interrupted: the render was stopped before it finished, and nothing was written")]
     Cancelled,
 }
 

@@ -5,6 +5,7 @@
 //! Nothing in a lower layer names anything of a higher one, and nothing here knows about the command line.
 
 pub mod accel;
+pub mod bench;
 pub mod error;
 pub mod geometry;
 pub mod io;

@@ -105,6 +105,104 @@ pub fn icosphere(subdivisions: u32) -> TriangleMesh {
     }
 }
 
+/// A small deterministic random generator (SplitMix64, Steele et al. 2014), so generated scenes are
+/// reproducible from their seed on every platform.
+#[derive(Clone, Debug)]
+pub struct SplitMix64(pub u64);
+
+impl SplitMix64 {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[0, 1)`.
+    pub fn next_f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    pub fn in_box(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
+        lo + (hi - lo) * Vec3::new(self.next_f32(), self.next_f32(), self.next_f32())
+    }
+}
+
+/// `count` small triangles scattered uniformly through the box `[lo, hi]`, each with vertices within
+/// `size` of its first vertex: the uniform grid's best case.
+pub fn scattered_triangles(count: usize, lo: Vec3, hi: Vec3, size: f32, seed: u64) -> TriangleMesh {
+    let mut rng = SplitMix64(seed);
+    let mut positions = Vec::with_capacity(3 * count);
+    for _ in 0..count {
+        let a = rng.in_box(lo, hi);
+        let jitter = |rng: &mut SplitMix64| {
+            a + size * (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5)
+        };
+        let b = jitter(&mut rng);
+        let c = jitter(&mut rng);
+        positions.extend([a, b, c]);
+    }
+    let indices = (0..count as u32)
+        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+        .collect();
+    TriangleMesh {
+        positions,
+        indices,
+        normals: None,
+        uvs: None,
+    }
+}
+
+/// An open bowl of `segments x rings` quads, radius `radius`, around the origin: a stadium whose few
+/// large triangles span a huge volume.
+pub fn stadium(radius: f32, segments: u32, rings: u32) -> TriangleMesh {
+    let mut positions = vec![];
+    for r in 0..=rings {
+        // From the field (angle 0, flat) up the stands to 60 degrees.
+        let a = r as f32 / rings as f32 * std::f32::consts::FRAC_PI_3;
+        let (ring_r, y) = (
+            radius * (0.3 + 0.7 * a.sin() / 0.866),
+            radius * 0.5 * (1.0 - a.cos()),
+        );
+        for s in 0..segments {
+            let t = s as f32 / segments as f32 * std::f32::consts::TAU;
+            positions.push(Vec3::new(ring_r * t.cos(), y, ring_r * t.sin()));
+        }
+    }
+    let mut indices = vec![];
+    for r in 0..rings {
+        for s in 0..segments {
+            let i = |r: u32, s: u32| r * segments + s % segments;
+            let (a, b, c, d) = (i(r, s), i(r, s + 1), i(r + 1, s + 1), i(r + 1, s));
+            indices.push([a, c, b]);
+            indices.push([a, d, c]);
+        }
+    }
+    // The field: a disc filling the inner ring.
+    let centre = positions.len() as u32;
+    positions.push(Vec3::ZERO);
+    for s in 0..segments {
+        indices.push([centre, (s + 1) % segments, s]);
+    }
+    TriangleMesh {
+        positions,
+        indices,
+        normals: None,
+        uvs: None,
+    }
+}
+
+/// Appends `other` to `mesh` (positions and triangles; attributes are dropped unless both have them).
+pub fn append(mesh: &mut TriangleMesh, other: &TriangleMesh) {
+    let base = mesh.positions.len() as u32;
+    mesh.positions.extend_from_slice(&other.positions);
+    mesh.indices
+        .extend(other.indices.iter().map(|t| t.map(|i| i + base)));
+    mesh.normals = None;
+    mesh.uvs = None;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,135 @@
+use anyhow::{anyhow, bail, Result};
+use appel::accel::AccelKind;
+use appel::bench::{bench_accel, bench_scene, BenchOptions, BenchRays, BenchTarget, BENCH_SCENES};
+use appel::scene::Scene;
+
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// A benchmark scene (uniform, teapot-in-stadium), a built-in scene or a scene file.
+    #[arg(default_value = "teapot-in-stadium")]
+    target: String,
+    /// Comma-separated acceleration structures to measure.
+    #[arg(long, default_value = "brute,bvh")]
+    accel: String,
+    /// Threads for the multi-threaded figures (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Print one JSON object per structure instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Triangle count of the generated benchmark scenes.
+    #[arg(long, default_value_t = 100_000)]
+    triangles: usize,
+    /// Camera resolution for the rays, as WxH.
+    #[arg(long, value_name = "WxH", default_value = "640x480")]
+    size: String,
+    /// Builds per structure (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    builds: usize,
+    /// Timed passes over the rays (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    runs: usize,
+}
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    let (w, h) = crate::render_cmd::parse_size(&args.size)?;
+    let kinds: Vec<AccelKind> = args
+        .accel
+        .split(',')
+        .map(|n| {
+            AccelKind::from_name(n.trim()).ok_or_else(|| {
+                anyhow!(
+                    "--accel: unknown structure `{n}`, expected some of: {}",
+                    AccelKind::NAMES.join(", ")
+                )
+            })
+        })
+        .collect::<Result<_>>()?;
+    let target = load_target(&args.target, args.triangles, w, h)?;
+    let options = BenchOptions {
+        build_runs: args.builds,
+        trace_runs: args.runs,
+        threads: args.threads.unwrap_or(0),
+    };
+    let rays = BenchRays::new(&target);
+    if !args.json {
+        println!(
+            "{}: {} triangles, {} primitives, {}x{} camera rays",
+            target.name,
+            target.geometry.triangle_count(),
+            target.geometry.prims.len(),
+            w,
+            h
+        );
+        println!(
+            "{:<8} {:>10} {:>12} {:>6} {:>22} {:>22} {:>9} {:>9}",
+            "accel",
+            "build ms",
+            "bytes",
+            "depth",
+            "camera Mrays/s 1t/Nt",
+            "incoherent 1t/Nt",
+            "nodes/ray",
+            "tests/ray"
+        );
+    }
+    for kind in kinds {
+        let r = bench_accel(&target, &rays, kind, &options);
+        if args.json {
+            println!("{}", serde_json::to_string(&r)?);
+        } else {
+            println!(
+                "{:<8} {:>10.1} {:>12} {:>6} {:>10} / {:<9} {:>10} / {:<9} {:>9.1} {:>9.1}",
+                r.accel,
+                r.build_ms,
+                r.bytes,
+                r.depth,
+                rate(r.primary_mrays_1t),
+                rate(r.primary_mrays),
+                rate(r.incoherent_mrays_1t),
+                rate(r.incoherent_mrays),
+                r.nodes_per_ray,
+                r.tests_per_ray
+            );
+        }
+    }
+    Ok(())
+}
+
+fn load_target(name: &str, triangles: usize, w: u32, h: u32) -> Result<BenchTarget> {
+    if let Some(t) = bench_scene(name, triangles, w, h) {
+        return Ok(t);
+    }
+    let (mut description, base_dir) = match crate::render_cmd::read_scene(Some(name)) {
+        Ok(x) => x,
+        Err(e) => bail!(
+            "{e:#}\n(benchmark scenes: {})",
+            BENCH_SCENES
+                .iter()
+                .map(|s| s.0)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    };
+    description.camera.width = w;
+    description.camera.height = h;
+    // The structure is built by the benchmark itself; the scene's own choice does not matter here.
+    description.render.accel = "brute".into();
+    let scene = Scene::new(&description, &base_dir)?;
+    Ok(BenchTarget {
+        name: name.to_string(),
+        geometry: scene.geometry,
+        camera: scene.camera,
+    })
+}
+
+/// Three significant digits, so brute force's 0.00123 Mrays/s does not print as zero.
+fn rate(mrays: f64) -> String {
+    if mrays >= 100.0 {
+        format!("{mrays:.0}")
+    } else if mrays >= 1.0 {
+        format!("{mrays:.2}")
+    } else {
+        format!("{mrays:.2e}")
+    }
+}

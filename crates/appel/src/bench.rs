@@ -1,0 +1,256 @@
+//! The measurement behind `appel bench`: for each acceleration structure, build time and memory, and
+//! closest-hit throughput on the scene's camera rays and on incoherent rays, with one thread and with
+//! all of them.
+
+use crate::accel::{Accel, AccelKind, TraversalStats};
+use crate::geometry::procedural::{append, icosphere, scattered_triangles, stadium, SplitMix64};
+use crate::geometry::TriangleMesh;
+use crate::math::{offset_ray_origin, orthonormal_basis, Ray, Vec3};
+use crate::scene::description::CameraDesc;
+use crate::scene::{Camera, Geometry};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// What is measured: geometry and the camera whose rays are cast.
+pub struct BenchTarget {
+    pub name: String,
+    pub geometry: Geometry,
+    pub camera: Camera,
+}
+
+/// Generated benchmark scenes.
+pub const BENCH_SCENES: &[(&str, &str)] = &[
+    (
+        "uniform",
+        "small triangles spread evenly through a cube: the grid's best case",
+    ),
+    (
+        "teapot-in-stadium",
+        "a dense small mesh in the middle of a huge sparse one: the grid's worst case",
+    ),
+];
+
+/// Builds a generated benchmark scene with about `triangles` triangles.
+pub fn bench_scene(name: &str, triangles: usize, width: u32, height: u32) -> Option<BenchTarget> {
+    let (mesh, eye, look_at): (TriangleMesh, Vec3, Vec3) = match name {
+        "uniform" => {
+            let n = triangles.max(1);
+            // Triangles about as large as the spacing between them.
+            let size = 2.0 / (n as f32).cbrt();
+            let mesh = scattered_triangles(n, Vec3::splat(-1.0), Vec3::splat(1.0), size, 7);
+            (mesh, Vec3::new(0.3, 0.4, 3.5), Vec3::ZERO)
+        }
+        "teapot-in-stadium" => {
+            // The "teapot": an icosphere of radius 1 standing on the field; the stadium: radius 1000.
+            let subdivisions =
+                ((triangles.max(20) as f64 / 20.0).log(4.0).round() as u32).clamp(1, 9);
+            let mut teapot = icosphere(subdivisions);
+            for p in &mut teapot.positions {
+                *p += Vec3::Y;
+            }
+            let mut mesh = stadium(1000.0, 64, 8);
+            append(&mut mesh, &teapot);
+            (mesh, Vec3::new(2.5, 2.2, 3.5), Vec3::Y)
+        }
+        _ => return None,
+    };
+    let mut geometry = Geometry::default();
+    geometry.push_mesh(mesh, 0);
+    let camera = Camera::new(&CameraDesc {
+        eye: eye.into(),
+        look_at: look_at.into(),
+        up: [0.0, 1.0, 0.0],
+        fov: 45.0,
+        width,
+        height,
+    });
+    Some(BenchTarget {
+        name: name.to_string(),
+        geometry,
+        camera,
+    })
+}
+
+/// One structure's figures.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct BenchResult {
+    pub accel: String,
+    pub scene: String,
+    pub triangles: usize,
+    pub primitives: usize,
+    /// Median build time over the build runs.
+    pub build_ms: f64,
+    pub bytes: usize,
+    pub depth: usize,
+    /// Closest-hit Mrays/s on camera rays, with all `threads`.
+    pub primary_mrays: f64,
+    /// Closest-hit Mrays/s on incoherent rays, with all `threads`.
+    pub incoherent_mrays: f64,
+    pub primary_mrays_1t: f64,
+    pub incoherent_mrays_1t: f64,
+    pub threads: usize,
+    pub rays_primary: usize,
+    pub rays_incoherent: usize,
+    /// Mean nodes (or cells) visited and primitive tests per camera ray.
+    pub nodes_per_ray: f64,
+    pub tests_per_ray: f64,
+}
+
+pub struct BenchOptions {
+    pub build_runs: usize,
+    pub trace_runs: usize,
+    pub threads: usize,
+}
+
+/// Camera rays of every pixel centre, in the exact convention.
+pub fn camera_rays(camera: &Camera) -> Vec<Ray> {
+    (0..camera.height)
+        .flat_map(|j| (0..camera.width).map(move |i| camera.pixel_ray(i, j)))
+        .collect()
+}
+
+/// From each camera hit, one ray in a uniformly random direction on the hemisphere of the geometric
+/// normal facing the camera (fixed seed), leaving from the error-bound offset of the hit point.
+pub fn incoherent_rays(target: &BenchTarget, accel: &Accel, primary: &[Ray]) -> Vec<Ray> {
+    let g = &target.geometry;
+    let mut rng = SplitMix64(0x5eed);
+    let mut out = Vec::with_capacity(primary.len());
+    let mut stats = TraversalStats::default();
+    for ray in primary {
+        let Some(hit) = accel.intersect(g, ray, f32::INFINITY, &mut stats) else {
+            continue;
+        };
+        let hit = g.scene_hit(hit);
+        let si = g.interaction(ray, &hit);
+        let n = if si.n.dot(ray.dir) > 0.0 { -si.n } else { si.n };
+        let (z, phi) = (rng.next_f32(), std::f32::consts::TAU * rng.next_f32());
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let (s, t) = orthonormal_basis(n);
+        let dir = (r * phi.cos() * s + r * phi.sin() * t + z * n).normalize();
+        out.push(Ray::new(
+            offset_ray_origin(si.p, si.p_error, si.n, dir),
+            dir,
+        ));
+    }
+    out
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Mrays/s of closest-hit queries on `rays` in the given pool (median of `runs`).
+fn throughput(
+    pool: &rayon::ThreadPool,
+    g: &Geometry,
+    accel: &Accel,
+    rays: &[Ray],
+    runs: usize,
+) -> f64 {
+    if rays.is_empty() {
+        return 0.0;
+    }
+    let times: Vec<f64> = (0..runs.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            let hits: usize = pool.install(|| {
+                rays.par_chunks(1024)
+                    .map(|chunk| {
+                        let mut stats = TraversalStats::default();
+                        chunk
+                            .iter()
+                            .filter(|r| accel.intersect(g, r, f32::INFINITY, &mut stats).is_some())
+                            .count()
+                    })
+                    .sum()
+            });
+            std::hint::black_box(hits);
+            start.elapsed().as_secs_f64()
+        })
+        .collect();
+    rays.len() as f64 / median(times) / 1e6
+}
+
+/// The rays every structure is measured on: the same for all, so their figures compare.
+pub struct BenchRays {
+    pub primary: Vec<Ray>,
+    pub incoherent: Vec<Ray>,
+}
+
+impl BenchRays {
+    /// Camera rays, and incoherent rays found with the default structure.
+    pub fn new(target: &BenchTarget) -> Self {
+        let accel = Accel::build(AccelKind::default(), &target.geometry);
+        let primary = camera_rays(&target.camera);
+        let incoherent = incoherent_rays(target, &accel, &primary);
+        Self {
+            primary,
+            incoherent,
+        }
+    }
+}
+
+/// Measures one structure on the target.
+pub fn bench_accel(
+    target: &BenchTarget,
+    rays: &BenchRays,
+    kind: AccelKind,
+    o: &BenchOptions,
+) -> BenchResult {
+    let g = &target.geometry;
+    let mut builds = vec![];
+    let mut accel = None;
+    for _ in 0..o.build_runs.max(1) {
+        let start = Instant::now();
+        let a = Accel::build(kind, g);
+        builds.push(start.elapsed().as_secs_f64() * 1e3);
+        accel = Some(a);
+    }
+    let accel = accel.expect("at least one build");
+    let stats = accel.stats();
+    let mut primary = rays.primary.clone();
+    let mut incoherent = rays.incoherent.clone();
+    let mut trace_runs = o.trace_runs;
+    if kind == AccelKind::Brute {
+        trace_runs = 1;
+        // Brute force costs rays x primitives: measure it on an evenly strided subset of the rays so
+        // that a million-triangle scene still finishes (the rate is per ray, so it stays comparable).
+        let budget = (5e7 / g.prims.len().max(1) as f64).max(200.0) as usize;
+        for rays in [&mut primary, &mut incoherent] {
+            let stride = rays.len().div_ceil(budget).max(1);
+            *rays = rays.iter().step_by(stride).copied().collect();
+        }
+    }
+    let mut traversal = TraversalStats::default();
+    for r in &primary {
+        accel.intersect(g, r, f32::INFINITY, &mut traversal);
+    }
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("thread pool");
+    let all = rayon::ThreadPoolBuilder::new()
+        .num_threads(o.threads)
+        .build()
+        .expect("thread pool");
+    let per_ray = |x: u64| x as f64 / traversal.rays.max(1) as f64;
+    BenchResult {
+        accel: kind.name().to_string(),
+        scene: target.name.clone(),
+        triangles: g.triangle_count(),
+        primitives: g.prims.len(),
+        build_ms: median(builds),
+        bytes: stats.bytes,
+        depth: stats.depth,
+        primary_mrays: throughput(&all, g, &accel, &primary, trace_runs),
+        incoherent_mrays: throughput(&all, g, &accel, &incoherent, trace_runs),
+        primary_mrays_1t: throughput(&one, g, &accel, &primary, trace_runs),
+        incoherent_mrays_1t: throughput(&one, g, &accel, &incoherent, trace_runs),
+        threads: all.current_num_threads(),
+        rays_primary: primary.len(),
+        rays_incoherent: incoherent.len(),
+        nodes_per_ray: per_ray(traversal.nodes_visited),
+        tests_per_ray: per_ray(traversal.prim_tests),
+    }
+}
