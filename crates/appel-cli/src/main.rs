@@ -2,6 +2,7 @@
 //! the work.
 
 mod bench_cmd;
+mod convert_cmd;
 mod render_cmd;
 mod scenes_cmd;
 
@@ -25,6 +26,8 @@ enum Command {
     Render(Box<render_cmd::RenderArgs>),
     /// Measure acceleration structures: build time, memory and ray throughput.
     Bench(bench_cmd::BenchArgs),
+    /// Write a scene's or mesh's triangles as one binary PLY, in Appel's triangle order.
+    Convert(convert_cmd::ConvertArgs),
     /// List the built-in scenes, or print one as a scene file to edit.
     Scenes(scenes_cmd::ScenesArgs),
 }
@@ -35,6 +38,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render_cmd::run(*args),
         Command::Scenes(args) => scenes_cmd::run(args),
         Command::Bench(args) => bench_cmd::run(args),
+        Command::Convert(args) => convert_cmd::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

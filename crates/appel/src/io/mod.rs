@@ -2,5 +2,8 @@
 
 mod atomic;
 pub mod image;
+mod ply_write;
+
+pub use ply_write::write_ply;
 
 pub use atomic::write_atomically;
