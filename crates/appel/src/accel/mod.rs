@@ -4,6 +4,7 @@
 
 mod brute;
 pub mod bvh;
+mod grid;
 mod mesh_prims;
 mod stats;
 #[cfg(test)]
@@ -11,6 +12,7 @@ pub(crate) mod testutil;
 
 pub use brute::Brute;
 pub use bvh::{Bvh, BvhOptions, BvhSplit};
+pub use grid::{Grid, GridOptions};
 pub use mesh_prims::MeshPrimitives;
 pub use stats::{AccelStats, TraversalStats};
 
@@ -59,16 +61,18 @@ impl Hit {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum AccelKind {
     Brute,
+    Grid,
     #[default]
     Bvh,
 }
 
 impl AccelKind {
-    pub const NAMES: &'static [&'static str] = &["brute", "bvh"];
+    pub const NAMES: &'static [&'static str] = &["brute", "grid", "bvh"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "brute" => Some(Self::Brute),
+            "grid" => Some(Self::Grid),
             "bvh" => Some(Self::Bvh),
             _ => None,
         }
@@ -77,6 +81,7 @@ impl AccelKind {
     pub fn name(self) -> &'static str {
         match self {
             Self::Brute => "brute",
+            Self::Grid => "grid",
             Self::Bvh => "bvh",
         }
     }
@@ -86,6 +91,7 @@ impl AccelKind {
 #[derive(Clone, Debug)]
 pub enum Accel {
     Brute(Brute),
+    Grid(Grid),
     Bvh(Bvh),
 }
 
@@ -93,6 +99,7 @@ impl Accel {
     pub fn build<P: Primitives>(kind: AccelKind, prims: &P) -> Self {
         match kind {
             AccelKind::Brute => Accel::Brute(Brute::build(prims)),
+            AccelKind::Grid => Accel::Grid(Grid::build(prims)),
             AccelKind::Bvh => Accel::Bvh(Bvh::build(prims)),
         }
     }
@@ -107,6 +114,7 @@ impl Accel {
     ) -> Option<Hit> {
         match self {
             Accel::Brute(a) => a.intersect(prims, ray, t_max, stats),
+            Accel::Grid(a) => a.intersect(prims, ray, t_max, stats),
             Accel::Bvh(a) => a.intersect(prims, ray, t_max, stats),
         }
     }
@@ -121,6 +129,7 @@ impl Accel {
     ) -> bool {
         match self {
             Accel::Brute(a) => a.occluded(prims, ray, t_max, stats),
+            Accel::Grid(a) => a.occluded(prims, ray, t_max, stats),
             Accel::Bvh(a) => a.occluded(prims, ray, t_max, stats),
         }
     }
@@ -128,6 +137,7 @@ impl Accel {
     pub fn stats(&self) -> AccelStats {
         match self {
             Accel::Brute(a) => a.stats(),
+            Accel::Grid(a) => a.stats(),
             Accel::Bvh(a) => a.stats(),
         }
     }

@@ -75,13 +75,14 @@ pub fn rays(n: usize, seed: u32) -> Vec<Ray> {
 }
 
 /// Every ray gets the same closest hit (primitive and `t`; either primitive of an exact tie) and the
-/// same any-hit answer from `intersect`/`occluded` as from brute force.
+/// same any-hit answer from `intersect`/`occluded` as from brute force. Returns how many closest hits
+/// there were, so that callers can make sure the check was not vacuous.
 pub fn agrees_with_brute<P: Primitives>(
     prims: &P,
     rays: &[Ray],
     intersect: impl Fn(&Ray, f32, &mut TraversalStats) -> Option<Hit>,
     occluded: impl Fn(&Ray, f32, &mut TraversalStats) -> bool,
-) {
+) -> usize {
     let brute = Brute::build(prims);
     let mut s = TraversalStats::default();
     let mut hits = 0;
@@ -109,10 +110,7 @@ pub fn agrees_with_brute<P: Primitives>(
             );
         }
     }
-    // The check means something only if rays do hit.
-    if prims.count() >= 100 {
-        assert!(hits > rays.len() / 4, "only {hits} hits");
-    }
+    hits
 }
 
 pub fn prims(m: &TriangleMesh) -> MeshPrimitives<'_> {

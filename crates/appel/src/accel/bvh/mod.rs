@@ -142,16 +142,16 @@ mod tests {
     use super::*;
     use crate::accel::testutil::{agrees_with_brute, mesh, prims, rays, soup};
 
-    fn check(m: &crate::geometry::TriangleMesh, opts: BvhOptions) -> Bvh {
+    fn check(m: &crate::geometry::TriangleMesh, opts: BvhOptions) -> (Bvh, usize) {
         let p = prims(m);
         let bvh = Bvh::build_with(&p, opts);
-        agrees_with_brute(
+        let hits = agrees_with_brute(
             &p,
             &rays(400, 7),
             |r, t, s| bvh.intersect(&p, r, t, s),
             |r, t, s| bvh.occluded(&p, r, t, s),
         );
-        bvh
+        (bvh, hits)
     }
 
     /// Structural invariants: every primitive in exactly one leaf, children inside their parent.
@@ -182,13 +182,14 @@ mod tests {
     fn every_split_agrees_with_brute_force() {
         let m = soup(3000, 11);
         for split in [BvhSplit::Sah, BvhSplit::Midpoint, BvhSplit::Median] {
-            let bvh = check(
+            let (bvh, hits) = check(
                 &m,
                 BvhOptions {
                     split,
                     ..Default::default()
                 },
             );
+            assert!(hits > 200, "{hits}");
             well_formed(&bvh, 3000);
             assert!(bvh.depth() < 40, "{split:?}: depth {}", bvh.depth());
         }
@@ -197,7 +198,7 @@ mod tests {
     #[test]
     fn parallel_build_gives_a_valid_tree() {
         let m = soup(5000, 3);
-        let bvh = check(
+        let (bvh, _) = check(
             &m,
             BvhOptions {
                 parallel_threshold: 100,
@@ -218,14 +219,15 @@ mod tests {
 
     #[test]
     fn empty_single_and_coincident_inputs() {
-        let empty = check(&mesh(vec![]), BvhOptions::default());
+        let (empty, _) = check(&mesh(vec![]), BvhOptions::default());
         assert!(empty.nodes.is_empty());
         assert_eq!(empty.stats().sah_cost, None);
         let t = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let one = check(&mesh(vec![t]), BvhOptions::default());
+        let (one, hits) = check(&mesh(vec![t]), BvhOptions::default());
         assert_eq!(one.nodes.len(), 1);
+        assert!(hits > 0);
         for split in [BvhSplit::Sah, BvhSplit::Midpoint, BvhSplit::Median] {
-            let same = check(
+            let (same, _) = check(
                 &mesh(vec![t; 1000]),
                 BvhOptions {
                     split,
