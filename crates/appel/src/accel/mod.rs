@@ -5,6 +5,7 @@
 mod brute;
 pub mod bvh;
 mod grid;
+mod kdtree;
 mod mesh_prims;
 mod stats;
 #[cfg(test)]
@@ -13,6 +14,7 @@ pub(crate) mod testutil;
 pub use brute::Brute;
 pub use bvh::{Bvh, BvhOptions, BvhSplit};
 pub use grid::{Grid, GridOptions};
+pub use kdtree::{KdNode, KdOptions, KdTree};
 pub use mesh_prims::MeshPrimitives;
 pub use stats::{AccelStats, TraversalStats};
 
@@ -62,17 +64,19 @@ impl Hit {
 pub enum AccelKind {
     Brute,
     Grid,
+    KdTree,
     #[default]
     Bvh,
 }
 
 impl AccelKind {
-    pub const NAMES: &'static [&'static str] = &["brute", "grid", "bvh"];
+    pub const NAMES: &'static [&'static str] = &["brute", "grid", "kdtree", "bvh"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "brute" => Some(Self::Brute),
             "grid" => Some(Self::Grid),
+            "kdtree" => Some(Self::KdTree),
             "bvh" => Some(Self::Bvh),
             _ => None,
         }
@@ -82,6 +86,7 @@ impl AccelKind {
         match self {
             Self::Brute => "brute",
             Self::Grid => "grid",
+            Self::KdTree => "kdtree",
             Self::Bvh => "bvh",
         }
     }
@@ -92,6 +97,7 @@ impl AccelKind {
 pub enum Accel {
     Brute(Brute),
     Grid(Grid),
+    KdTree(KdTree),
     Bvh(Bvh),
 }
 
@@ -100,6 +106,7 @@ impl Accel {
         match kind {
             AccelKind::Brute => Accel::Brute(Brute::build(prims)),
             AccelKind::Grid => Accel::Grid(Grid::build(prims)),
+            AccelKind::KdTree => Accel::KdTree(KdTree::build(prims)),
             AccelKind::Bvh => Accel::Bvh(Bvh::build(prims)),
         }
     }
@@ -115,6 +122,7 @@ impl Accel {
         match self {
             Accel::Brute(a) => a.intersect(prims, ray, t_max, stats),
             Accel::Grid(a) => a.intersect(prims, ray, t_max, stats),
+            Accel::KdTree(a) => a.intersect(prims, ray, t_max, stats),
             Accel::Bvh(a) => a.intersect(prims, ray, t_max, stats),
         }
     }
@@ -130,6 +138,7 @@ impl Accel {
         match self {
             Accel::Brute(a) => a.occluded(prims, ray, t_max, stats),
             Accel::Grid(a) => a.occluded(prims, ray, t_max, stats),
+            Accel::KdTree(a) => a.occluded(prims, ray, t_max, stats),
             Accel::Bvh(a) => a.occluded(prims, ray, t_max, stats),
         }
     }
@@ -138,6 +147,7 @@ impl Accel {
         match self {
             Accel::Brute(a) => a.stats(),
             Accel::Grid(a) => a.stats(),
+            Accel::KdTree(a) => a.stats(),
             Accel::Bvh(a) => a.stats(),
         }
     }

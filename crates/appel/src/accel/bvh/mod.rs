@@ -7,7 +7,6 @@ mod traverse;
 
 pub use build::{BvhOptions, BvhSplit};
 pub use node::BvhNode;
-#[allow(unused_imports)]
 pub(crate) use traverse::{far_scale, RayBox};
 
 use super::{AccelStats, Hit, Primitives, TraversalStats};
