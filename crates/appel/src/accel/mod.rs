@@ -3,9 +3,19 @@
 //! [`Accel`] is the enum the renderer holds: one match per ray, no dynamic dispatch per node.
 
 mod brute;
+pub mod bvh;
+mod grid;
+mod kdtree;
+mod mesh_prims;
 mod stats;
+#[cfg(test)]
+pub(crate) mod testutil;
 
 pub use brute::Brute;
+pub use bvh::{Bvh, BvhOptions, BvhSplit};
+pub use grid::{Grid, GridOptions};
+pub use kdtree::{KdNode, KdOptions, KdTree};
+pub use mesh_prims::MeshPrimitives;
 pub use stats::{AccelStats, TraversalStats};
 
 use crate::geometry::PrimHit;
@@ -20,6 +30,13 @@ pub trait Primitives: Sync {
     }
     /// Closest hit of primitive `i` with `t` in `(0, t_max)`.
     fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit>;
+    /// Whether primitive `i` may overlap the box `cell` (which overlaps its bounds). Structures that
+    /// put a primitive into every cell it touches ask this to skip cells only its bounds reach; the
+    /// default, `true`, is always correct.
+    fn clip_overlaps(&self, i: usize, cell: &Aabb) -> bool {
+        let _ = (i, cell);
+        true
+    }
 }
 
 /// A closest hit: which primitive, and where on it.
@@ -45,16 +62,22 @@ impl Hit {
 /// The structures a user can choose by name (`render.accel`, `--accel`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum AccelKind {
-    #[default]
     Brute,
+    Grid,
+    KdTree,
+    #[default]
+    Bvh,
 }
 
 impl AccelKind {
-    pub const NAMES: &'static [&'static str] = &["brute"];
+    pub const NAMES: &'static [&'static str] = &["brute", "grid", "kdtree", "bvh"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "brute" => Some(Self::Brute),
+            "grid" => Some(Self::Grid),
+            "kdtree" => Some(Self::KdTree),
+            "bvh" => Some(Self::Bvh),
             _ => None,
         }
     }
@@ -62,6 +85,9 @@ impl AccelKind {
     pub fn name(self) -> &'static str {
         match self {
             Self::Brute => "brute",
+            Self::Grid => "grid",
+            Self::KdTree => "kdtree",
+            Self::Bvh => "bvh",
         }
     }
 }
@@ -70,12 +96,18 @@ impl AccelKind {
 #[derive(Clone, Debug)]
 pub enum Accel {
     Brute(Brute),
+    Grid(Grid),
+    KdTree(KdTree),
+    Bvh(Bvh),
 }
 
 impl Accel {
     pub fn build<P: Primitives>(kind: AccelKind, prims: &P) -> Self {
         match kind {
             AccelKind::Brute => Accel::Brute(Brute::build(prims)),
+            AccelKind::Grid => Accel::Grid(Grid::build(prims)),
+            AccelKind::KdTree => Accel::KdTree(KdTree::build(prims)),
+            AccelKind::Bvh => Accel::Bvh(Bvh::build(prims)),
         }
     }
 
@@ -89,6 +121,9 @@ impl Accel {
     ) -> Option<Hit> {
         match self {
             Accel::Brute(a) => a.intersect(prims, ray, t_max, stats),
+            Accel::Grid(a) => a.intersect(prims, ray, t_max, stats),
+            Accel::KdTree(a) => a.intersect(prims, ray, t_max, stats),
+            Accel::Bvh(a) => a.intersect(prims, ray, t_max, stats),
         }
     }
 
@@ -102,12 +137,18 @@ impl Accel {
     ) -> bool {
         match self {
             Accel::Brute(a) => a.occluded(prims, ray, t_max, stats),
+            Accel::Grid(a) => a.occluded(prims, ray, t_max, stats),
+            Accel::KdTree(a) => a.occluded(prims, ray, t_max, stats),
+            Accel::Bvh(a) => a.occluded(prims, ray, t_max, stats),
         }
     }
 
     pub fn stats(&self) -> AccelStats {
         match self {
             Accel::Brute(a) => a.stats(),
+            Accel::Grid(a) => a.stats(),
+            Accel::KdTree(a) => a.stats(),
+            Accel::Bvh(a) => a.stats(),
         }
     }
 }

@@ -4,12 +4,14 @@
 //! [`SurfaceInteraction`] is computed once, for the final hit only.
 
 mod mesh;
+mod overlap;
 mod plane;
 pub mod procedural;
 mod sphere;
 pub mod triangle;
 
 pub use mesh::TriangleMesh;
+pub use overlap::triangle_box_overlap;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::TriangleTest;

@@ -3,30 +3,10 @@
 //! grazes an edge or a vertex tangentially (counting one crossing where the surface merely touches), so
 //! three rays in unrelated directions vote and the majority wins.
 
-use crate::accel::{Accel, AccelKind, Primitives, TraversalStats};
-use crate::geometry::{PrimHit, TriangleMesh, TriangleTest};
+use crate::accel::{Accel, AccelKind, MeshPrimitives, TraversalStats};
+use crate::geometry::{PrimHit, TriangleMesh};
 use crate::math::{offset_ray_origin, Aabb, Ray, Vec3};
 use rayon::prelude::*;
-
-/// A triangle mesh seen as primitives for an acceleration structure.
-pub struct MeshPrimitives<'a> {
-    pub mesh: &'a TriangleMesh,
-    pub test: TriangleTest,
-}
-
-impl Primitives for MeshPrimitives<'_> {
-    fn count(&self) -> usize {
-        self.mesh.triangle_count()
-    }
-
-    fn bounds(&self, i: usize) -> Aabb {
-        self.mesh.triangle_bounds(i)
-    }
-
-    fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit> {
-        self.mesh.intersect(i, ray, t_max, self.test)
-    }
-}
 
 /// Three directions far from the axes and from each other, so that no two rays of a vote are likely to
 /// graze the same edge of an axis-aligned or regular mesh.
@@ -50,10 +30,7 @@ pub struct InsideTester<'a> {
 
 impl<'a> InsideTester<'a> {
     pub fn new(mesh: &'a TriangleMesh) -> Self {
-        let prims = MeshPrimitives {
-            mesh,
-            test: TriangleTest::Watertight,
-        };
+        let prims = MeshPrimitives::new(mesh);
         let accel = Accel::build(AccelKind::default(), &prims);
         Self {
             prims,

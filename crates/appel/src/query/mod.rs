@@ -2,4 +2,4 @@
 
 mod inside;
 
-pub use inside::{InsideTester, MeshPrimitives};
+pub use inside::InsideTester;

@@ -1,7 +1,9 @@
 //! All the surfaces of a scene, flattened into one list of primitives for the acceleration structure.
 
 use crate::accel::{Hit, Primitives};
-use crate::geometry::{Plane, PrimHit, Sphere, SurfaceInteraction, TriangleMesh, TriangleTest};
+use crate::geometry::{
+    triangle_box_overlap, Plane, PrimHit, Sphere, SurfaceInteraction, TriangleMesh, TriangleTest,
+};
 use crate::math::{Aabb, Ray, Vec3};
 
 /// One `[[shape]]` of the scene file.
@@ -179,5 +181,15 @@ impl Primitives for Geometry {
     fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit> {
         let r = self.prims[i];
         self.intersect_shape(r.shape, r.index, ray, t_max)
+    }
+
+    fn clip_overlaps(&self, i: usize, cell: &Aabb) -> bool {
+        let r = self.prims[i];
+        match &self.shapes[r.shape as usize].kind {
+            ShapeKind::Mesh(m) => {
+                triangle_box_overlap(self.meshes[*m as usize].vertices(r.index as usize), cell)
+            }
+            _ => true,
+        }
     }
 }
