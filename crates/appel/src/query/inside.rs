@@ -10,11 +10,14 @@ use rayon::prelude::*;
 
 /// Three directions far from the axes and from each other, so that no two rays of a vote are likely to
 /// graze the same edge of an axis-aligned or regular mesh.
-const DIRECTIONS: [Vec3; 3] = [
-    Vec3::new(0.919_521_6, 0.341_200_3, 0.195_202_2),
-    Vec3::new(-0.247_081_7, 0.910_729_8, 0.330_896_6),
-    Vec3::new(0.262_399_5, -0.465_336_6, 0.845_331_4),
-];
+fn directions() -> [Vec3; 3] {
+    [
+        Vec3::new(1.0, 0.3711, 0.1579),
+        Vec3::new(-0.2713, 1.0, 0.4317),
+        Vec3::new(0.3119, -0.5531, 1.0),
+    ]
+    .map(Vec3::normalize)
+}
 
 /// Upper bound on crossings followed along one ray; a ray through a broken mesh cannot loop forever.
 const MAX_CROSSINGS: usize = 1 << 16;
@@ -69,9 +72,9 @@ impl<'a> InsideTester<'a> {
         if !self.bounds.contains(p) || !p.is_finite() {
             return false;
         }
-        let votes = DIRECTIONS
-            .iter()
-            .filter(|&&d| self.crossings(p, d) % 2 == 1)
+        let votes = directions()
+            .into_iter()
+            .filter(|&d| self.crossings(p, d) % 2 == 1)
             .count();
         votes >= 2
     }
@@ -88,8 +91,12 @@ mod tests {
 
     #[test]
     fn directions_are_unit_length() {
-        for d in DIRECTIONS {
-            assert!((d.length() - 1.0).abs() < 1e-6);
+        let d = directions();
+        for (i, a) in d.iter().enumerate() {
+            assert!((a.length() - 1.0).abs() < 1e-6);
+            // Well apart from each other and from every axis.
+            assert!(d[(i + 1) % 3].dot(*a).abs() < 0.5);
+            assert!(a.abs().max_element() < 0.95);
         }
     }
 }
