@@ -396,6 +396,29 @@ pub fn parse(src: &str) -> Result<Ast, FormulaError> {
     })
 }
 
+/// The formula with each variable `v` replaced by `(v*k)`: `f(kx, ky, kz)`, whose zero set is the
+/// surface scaled by `1/k`. A formula that does not lex is returned unchanged (validation reports it).
+pub fn substitute_scaled(src: &str, k: f64) -> String {
+    let Ok(toks) = lex(src) else {
+        return src.to_string();
+    };
+    let mut is_var = vec![false; src.chars().count()];
+    for (t, col) in &toks {
+        if matches!(t, Tok::Ident(n) if n == "x" || n == "y" || n == "z") {
+            is_var[col - 1] = true;
+        }
+    }
+    let mut out = String::new();
+    for (i, c) in src.chars().enumerate() {
+        if is_var[i] {
+            out.push_str(&format!("({c}*{k:e})"));
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -447,6 +470,13 @@ mod tests {
         assert_eq!(e("x # 2").column, 3);
         assert_eq!(e("").column, 1);
         assert_eq!(e("x +").column, 4);
+    }
+
+    #[test]
+    fn scaling_substitutes_variables_only() {
+        let f = substitute_scaled("x^2 + exp(y) - 2e3*z", 0.5);
+        assert_eq!(f, "(x*5e-1)^2 + exp((y*5e-1)) - 2e3*(z*5e-1)");
+        assert!(parse(&f).is_ok());
     }
 
     #[test]
