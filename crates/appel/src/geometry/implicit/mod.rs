@@ -10,6 +10,7 @@ pub mod interval;
 pub mod num;
 pub mod parse;
 pub mod root;
+pub mod slope;
 pub mod tape;
 
 pub use parse::FormulaError;

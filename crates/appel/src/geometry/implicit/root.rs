@@ -3,7 +3,9 @@
 //! arbitrary implicit surfaces with interval and affine arithmetic").
 //!
 //! Depth-first over `[t0, t1]`, nearer half first: a stretch whose interval enclosure excludes 0
-//! cannot hold a root and is dropped; the others are halved down to `width`. The first stretch that
+//! cannot hold a root and is dropped. A stretch where the enclosure of the derivative along the ray
+//! excludes 0 is monotonic (Mitchell 1990, section 4): it holds one root if the ends differ in sign,
+//! refined directly, and none otherwise. The others are halved down to `width`. The first stretch that
 //! survives at that width holds the first root (up to `width`), which is then refined:
 //! - with a sign change at its ends, by Newton's method safeguarded by bisection, to full precision;
 //! - without one (a tangent touch, or a thin feature crossed twice inside the stretch), by one Newton
@@ -18,6 +20,7 @@
 use super::dual::Dual;
 use super::interval::Interval;
 use super::num::Num;
+use super::slope::Slope;
 use super::tape::Tape;
 use glam::DVec3;
 
@@ -25,7 +28,7 @@ use glam::DVec3;
 #[derive(Default)]
 pub struct Scratch {
     stack: Vec<(f64, f64)>,
-    intervals: Vec<Interval>,
+    slopes: Vec<Slope>,
     duals: Vec<Dual>,
     values: Vec<f64>,
 }
@@ -58,12 +61,14 @@ impl RaySegment {
         (r.v, r.g.dot(self.d))
     }
 
-    fn enclosure(&self, tape: &Tape, a: f64, b: f64, s: &mut Scratch) -> Interval {
+    /// Enclosures of `f` and of `df/dt` over `t in [a, b]`.
+    fn enclosure(&self, tape: &Tape, a: f64, b: f64, s: &mut Scratch) -> Slope {
         let t = Interval::new(a, b);
-        let coord = |axis: usize| {
-            Interval::constant(self.o[axis]).add(t.mul(Interval::constant(self.d[axis])))
+        let coord = |axis: usize| Slope {
+            v: Interval::constant(self.o[axis]).add(t.mul(Interval::constant(self.d[axis]))),
+            d: Interval::constant(self.d[axis]),
         };
-        tape.eval([coord(0), coord(1), coord(2)], &mut s.intervals)
+        tape.eval([coord(0), coord(1), coord(2)], &mut s.slopes)
     }
 }
 
@@ -97,8 +102,23 @@ fn isolate(
         if evaluations > MAX_EVALUATIONS {
             return None;
         }
-        let f = ray.enclosure(tape, a, b, s);
+        let Slope { v: f, d: df } = ray.enclosure(tape, a, b, s);
         if !f.contains_zero() {
+            continue;
+        }
+        if !df.contains_zero() {
+            // Monotonic here: one root if the ends differ in sign, none otherwise.
+            let fa = ray.value(tape, a, s);
+            if fa == 0.0 {
+                return Some(a);
+            }
+            let fb = ray.value(tape, b, s);
+            if fb == 0.0 {
+                return Some(b);
+            }
+            if (fa < 0.0) != (fb < 0.0) {
+                return Some(newton_bisection(tape, ray, a, b, fa, s));
+            }
             continue;
         }
         let m = 0.5 * (a + b);

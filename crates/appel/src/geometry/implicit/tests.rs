@@ -270,3 +270,38 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// The enclosure of the derivative along a ray contains the dual-number derivative at points of
+    /// the stretch: the monotonicity shortcut of root isolation rests on it.
+    #[test]
+    fn slope_enclosure_contains_point_derivatives(
+        f in formula(),
+        o in proptest::array::uniform3(-2.0f64..2.0),
+        d in proptest::array::uniform3(-1.0f64..1.0),
+        a in -1.0f64..1.0,
+        w in 0.0f64..1.0,
+        fr in proptest::collection::vec(0.0f64..=1.0, 6),
+    ) {
+        use super::slope::Slope;
+        let tape = Tape::compile(&parse::parse(&f).unwrap());
+        let t = Interval::new(a, a + w);
+        let coord = |i: usize| Slope {
+            v: Interval::constant(o[i]).add(t.mul(Interval::constant(d[i]))),
+            d: Interval::constant(d[i]),
+        };
+        let s = tape.eval([coord(0), coord(1), coord(2)], &mut Vec::new());
+        for u in fr {
+            let tt = (a + u * w).min(a + w);
+            let p = [0, 1, 2].map(|i| o[i] + tt * d[i]);
+            let g = tape.eval([Dual::var(p[0], 0), Dual::var(p[1], 1), Dual::var(p[2], 2)], &mut Vec::new());
+            let slope = g.g.dot(DVec3::from(d));
+            if slope.is_finite() && g.v.is_finite() {
+                prop_assert!(s.v.contains(g.v), "{f}: value {} not in {:?}", g.v, s.v);
+                prop_assert!(s.d.contains(slope), "{f}: slope {slope} not in {:?} at t = {tt}", s.d);
+            }
+        }
+    }
+}
