@@ -108,9 +108,13 @@ fn isolate(
         }
         if !df.contains_zero() {
             // Monotonic here: one root if the ends differ in sign, none otherwise.
+            // A root exactly at t = 0 is the surface a ray starts on: not a hit (t must be > 0).
             let fa = ray.value(tape, a, s);
             if fa == 0.0 {
-                return Some(a);
+                if a > 0.0 {
+                    return Some(a);
+                }
+                continue;
             }
             let fb = ray.value(tape, b, s);
             if fb == 0.0 {
@@ -142,11 +146,11 @@ fn isolate(
 /// Inside a stretch `[a, b]` whose enclosure contains 0: the root, or `None` (see module docs).
 fn refine(tape: &Tape, ray: &RaySegment, a: f64, b: f64, s: &mut Scratch) -> Option<f64> {
     let fa = ray.value(tape, a, s);
-    if fa == 0.0 {
+    if fa == 0.0 && a > 0.0 {
         return Some(a);
     }
     let fb = ray.value(tape, b, s);
-    if fa.signum() != fb.signum() && !fb.is_nan() && !fa.is_nan() {
+    if fa != 0.0 && fa.signum() != fb.signum() && !fb.is_nan() && !fa.is_nan() {
         return Some(newton_bisection(tape, ray, a, b, fa, s));
     }
     let m = 0.5 * (a + b);
@@ -154,8 +158,12 @@ fn refine(tape: &Tape, ray: &RaySegment, a: f64, b: f64, s: &mut Scratch) -> Opt
     if f == 0.0 {
         return Some(m);
     }
+    // A thin feature crossed twice inside the stretch, with the midpoint inside it.
+    if fa != 0.0 && (f < 0.0) != (fa < 0.0) && !fa.is_nan() && !f.is_nan() {
+        return Some(newton_bisection(tape, ray, a, m, fa, s));
+    }
     let t = m - f / df;
-    (t >= a && t <= b).then_some(t)
+    (t > 0.0 && t >= a && t <= b).then_some(t)
 }
 
 /// A root in `[a, b]` where `f(a)` (= `fa`) and `f(b)` differ in sign: Newton steps while they stay
@@ -259,9 +267,24 @@ mod tests {
     }
 
     #[test]
+    fn a_ray_starting_exactly_on_the_surface_finds_the_next_root() {
+        // Origin on the sphere, pointing through it: the root at t = 0 is not a hit, the far side is.
+        let t = root(
+            "x^2 + y^2 + z^2 - 1",
+            [0.0, 0.0, -1.0],
+            [0.0, 0.0, 1.0],
+            10.0,
+        )
+        .unwrap();
+        assert!((t - 2.0).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
     fn empty_stretches_and_degenerate_formulas_terminate() {
         assert!(root("x^2 + 1", [0.0; 3], [1.0, 0.0, 0.0], 10.0).is_none());
-        assert_eq!(root("x - x", [0.0; 3], [1.0, 0.0, 0.0], 10.0), Some(0.0));
+        // Zero everywhere: the first point after the start is a root.
+        let t = root("x - x", [0.0; 3], [1.0, 0.0, 0.0], 10.0).unwrap();
+        assert!(t > 0.0 && t < 1e-5, "{t}");
         assert!(root("1/x", [-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], 2.0).is_none());
         // Infinitely many roots accumulating at 0: the first one after the start is found.
         let t = root("sin(1/x)", [0.01, 0.0, 0.0], [1.0, 0.0, 0.0], 1.0).unwrap();
