@@ -305,3 +305,27 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Any formula on any ray: no panic, hits inside `(0, t_max)` and the box, finite unit normals.
+    #[test]
+    fn random_formulas_on_random_rays_give_sane_hits(
+        f in formula(),
+        o in proptest::array::uniform3(-3.0f32..3.0),
+        d in proptest::array::uniform3(-1.0f32..1.0),
+        t_max in 0.1f32..10.0,
+    ) {
+        let imp = implicit(&f, 1.0);
+        let ray = Ray::new(Vec3::from(o), Vec3::from(d));
+        if let Some(h) = imp.intersect(&ray, t_max) {
+            prop_assert!(h.t > 0.0 && h.t < t_max, "{h:?}");
+            let p = ray.at(h.t);
+            prop_assert!(imp.bounds.union(Aabb::new(p, p)).extent().max_element() <= 2.0 + 1e-3 * (1.0 + h.t));
+            let si = imp.interaction(&ray, &h);
+            prop_assert!(si.n.is_finite() && (si.n.length() - 1.0).abs() < 1e-3, "{f}: {si:?}");
+            prop_assert!(si.p_error.is_finite());
+        }
+    }
+}
