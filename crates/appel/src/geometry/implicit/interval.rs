@@ -45,6 +45,15 @@ impl Interval {
         Self::out(i.lo, i.hi)
     }
 
+    /// `self`, or the whole line if either product it was made of is NaN (f64::min/max drop NaN).
+    fn nan_to_entire(self, a: f64, b: f64) -> Self {
+        if a.is_nan() || b.is_nan() {
+            Self::ENTIRE
+        } else {
+            self
+        }
+    }
+
     /// Whether 0 may be a value of the function over the box (NaN bounds count as yes).
     pub fn contains_zero(&self) -> bool {
         !(self.lo > 0.0 || self.hi < 0.0)
@@ -91,28 +100,25 @@ impl Num for Interval {
         Self::out(self.lo - o.hi, self.hi - o.lo)
     }
     fn mul(self, o: Self) -> Self {
+        // Scaling by a point (constants, ray directions) needs two products, not four.
+        if o.lo == o.hi {
+            let (a, b) = (self.lo * o.lo, self.hi * o.lo);
+            return Self::out(a.min(b), a.max(b)).nan_to_entire(a, b);
+        }
         let p = [
             self.lo * o.lo,
             self.lo * o.hi,
             self.hi * o.lo,
             self.hi * o.hi,
         ];
-        // 0 * inf is NaN: `out` turns it into the whole line.
-        let lo = p.iter().copied().fold(f64::INFINITY, |a, b| {
-            if b.is_nan() || a.is_nan() {
-                f64::NAN
-            } else {
-                a.min(b)
-            }
-        });
-        let hi = p.iter().copied().fold(f64::NEG_INFINITY, |a, b| {
-            if b.is_nan() || a.is_nan() {
-                f64::NAN
-            } else {
-                a.max(b)
-            }
-        });
-        Self::out(lo, hi)
+        if p.iter().any(|v| v.is_nan()) {
+            // 0 * inf: no information kept.
+            return Self::ENTIRE;
+        }
+        Self::out(
+            p[0].min(p[1]).min(p[2].min(p[3])),
+            p[0].max(p[1]).max(p[2].max(p[3])),
+        )
     }
     fn div(self, o: Self) -> Self {
         if o.contains_zero() {
