@@ -249,6 +249,20 @@ mod tests {
 
     #[test]
     fn tangent_touch_is_reported() {
+        // The sphere's touch below can come out as an exact 0 by cancellation in `1 + z^2 - 1`; a
+        // parabolic cylinder `y = (z - 3.3)^2` touched along y = 0 has no such cancellation:
+        // f = -(t - 3.3)^2 is never 0 at a computed point, only the double-root acceptance finds it.
+        // (3.3 is not a dyadic fraction of 10, so no midpoint lands on it exactly.)
+        let t = root("y - (z - 3.3)^2", [0.0; 3], [0.0, 0.0, 1.0], 10.0).unwrap();
+        assert!((t - 3.3).abs() < 1e-6, "{t}");
+        let t = root(
+            "y - (x - 1.32)^2 - (z - 3.3)^2",
+            [0.0; 3],
+            [0.4, 0.0, 1.0],
+            10.0,
+        )
+        .unwrap();
+        assert!((t - 3.3).abs() < 1e-6, "{t}");
         let t = root(
             "x^2 + y^2 + z^2 - 1",
             [0.0, 1.0, -5.0],
