@@ -3,17 +3,22 @@
 //! Every intersector returns the smallest `t` in `(0, t_max)` (a cheap [`PrimHit`]); the full
 //! [`SurfaceInteraction`] is computed once, for the final hit only.
 
+pub mod implicit;
 mod mesh;
 mod overlap;
 mod plane;
+pub mod poly;
 pub mod procedural;
 mod sphere;
+mod torus;
 pub mod triangle;
 
+pub use implicit::Implicit;
 pub use mesh::TriangleMesh;
 pub use overlap::triangle_box_overlap;
 pub use plane::Plane;
 pub use sphere::Sphere;
+pub use torus::Torus;
 pub use triangle::TriangleTest;
 
 use crate::math::{Vec2, Vec3};

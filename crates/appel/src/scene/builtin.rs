@@ -17,6 +17,11 @@ pub const BUILTIN_SCENES: &[(&str, &str, &str)] = &[
         "total internal reflection in a glass block made of triangles",
         include_str!("../../scenes/glass-block.toml"),
     ),
+    (
+        "implicit",
+        "a heart, a torus and a mirror sphere as implicit surfaces, by interval root isolation",
+        include_str!("../../scenes/implicit.toml"),
+    ),
 ];
 
 /// The text of a built-in scene.

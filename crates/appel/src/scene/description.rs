@@ -168,6 +168,20 @@ pub struct ShapeDesc {
     // triangle
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vertices: Option<[Vec3f; 3]>,
+    // implicit: `f(x, y, z) = 0` searched inside `bounds` (see docs/implicit.md)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub f: Option<String>,
+    /// `[[xmin, ymin, zmin], [xmax, ymax, zmax]]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bounds: Option<[Vec3f; 2]>,
+    // torus (also `center`)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub major_radius: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub minor_radius: Option<f32>,
+    /// Axis of symmetry of a torus; default `[0, 1, 0]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<Vec3f>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -264,6 +278,14 @@ impl Description {
             sh.point = sh.point.map(sc);
             sh.size = sh.size.map(|z| z.map(|x| x * s));
             sh.vertices = sh.vertices.map(|v| v.map(sc));
+            sh.major_radius = sh.major_radius.map(|r| r * s);
+            sh.minor_radius = sh.minor_radius.map(|r| r * s);
+            sh.bounds = sh.bounds.map(|b| b.map(sc));
+            // f(x/s, y/s, z/s) = 0 is the surface scaled by s.
+            sh.f = sh
+                .f
+                .as_ref()
+                .map(|f| crate::geometry::implicit::parse::substitute_scaled(f, 1.0 / s as f64));
         }
         for l in &mut d.lights {
             if let Some(p) = &mut l.position {

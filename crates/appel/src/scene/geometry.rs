@@ -2,7 +2,8 @@
 
 use crate::accel::{Hit, Primitives};
 use crate::geometry::{
-    triangle_box_overlap, Plane, PrimHit, Sphere, SurfaceInteraction, TriangleMesh, TriangleTest,
+    triangle_box_overlap, Implicit, Plane, PrimHit, Sphere, SurfaceInteraction, Torus,
+    TriangleMesh, TriangleTest,
 };
 use crate::math::{Aabb, Ray, Vec3};
 
@@ -19,6 +20,9 @@ pub enum ShapeKind {
     Plane(Plane),
     /// Index into [`Geometry::meshes`]; a single `triangle` shape is a one-triangle mesh.
     Mesh(u32),
+    /// Index into [`Geometry::implicits`] (the compiled formula lives there, not in the enum).
+    Implicit(u32),
+    Torus(Torus),
 }
 
 /// A primitive the acceleration structure sees: one sphere, one rectangle or one triangle of a mesh,
@@ -34,6 +38,7 @@ pub struct PrimRef {
 pub struct Geometry {
     pub shapes: Vec<Shape>,
     pub meshes: Vec<TriangleMesh>,
+    pub implicits: Vec<Implicit>,
     /// Bounded primitives, in the order the acceleration structure indexes them.
     pub prims: Vec<PrimRef>,
     /// Shapes without finite bounds (infinite planes), tested separately for every ray.
@@ -64,10 +69,12 @@ impl Geometry {
     pub fn push(&mut self, kind: ShapeKind, material: u32) -> u32 {
         let id = self.shapes.len() as u32;
         match &kind {
-            ShapeKind::Sphere(_) => self.prims.push(PrimRef {
-                shape: id,
-                index: 0,
-            }),
+            ShapeKind::Sphere(_) | ShapeKind::Implicit(_) | ShapeKind::Torus(_) => {
+                self.prims.push(PrimRef {
+                    shape: id,
+                    index: 0,
+                })
+            }
             ShapeKind::Plane(p) if p.half_size.is_none() => self.unbounded.push(id),
             ShapeKind::Plane(_) => self.prims.push(PrimRef {
                 shape: id,
@@ -88,6 +95,14 @@ impl Geometry {
         self.push(ShapeKind::Mesh(self.meshes.len() as u32 - 1), material)
     }
 
+    pub fn push_implicit(&mut self, implicit: Implicit, material: u32) -> u32 {
+        self.implicits.push(implicit);
+        self.push(
+            ShapeKind::Implicit(self.implicits.len() as u32 - 1),
+            material,
+        )
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.triangle_count()).sum()
     }
@@ -105,6 +120,8 @@ impl Geometry {
             ShapeKind::Mesh(m) => {
                 self.meshes[*m as usize].intersect(index as usize, ray, t_max, self.triangle_test)
             }
+            ShapeKind::Implicit(i) => self.implicits[*i as usize].intersect(ray, t_max),
+            ShapeKind::Torus(t) => t.intersect(ray, t_max),
         }
     }
 
@@ -155,6 +172,8 @@ impl Geometry {
             ShapeKind::Sphere(s) => s.interaction(ray, &ph),
             ShapeKind::Plane(p) => p.interaction(ray, &ph),
             ShapeKind::Mesh(m) => self.meshes[*m as usize].interaction(hit.prim as usize, &ph),
+            ShapeKind::Implicit(i) => self.implicits[*i as usize].interaction(ray, &ph),
+            ShapeKind::Torus(t) => t.interaction(ray, &ph),
         }
     }
 }
@@ -170,6 +189,8 @@ impl Primitives for Geometry {
             ShapeKind::Sphere(s) => s.bounds(),
             ShapeKind::Plane(p) => p.bounds().unwrap_or(Aabb::EMPTY),
             ShapeKind::Mesh(m) => self.meshes[*m as usize].triangle_bounds(r.index as usize),
+            ShapeKind::Implicit(i) => self.implicits[*i as usize].bounds,
+            ShapeKind::Torus(t) => t.bounds(),
         }
     }
 

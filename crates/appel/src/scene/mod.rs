@@ -18,7 +18,7 @@ pub use material::{Checker, Material};
 
 use crate::accel::{Accel, AccelKind, AccelStats, TraversalStats};
 use crate::error::{Error, Location, Result};
-use crate::geometry::{Plane, Sphere, TriangleMesh, TriangleTest};
+use crate::geometry::{Implicit, Plane, Sphere, Torus, TriangleMesh, TriangleTest};
 use crate::math::{Ray, Vec2, Vec3};
 use parse::{parse_description, toml_span, PathSeg, Syntax};
 use std::path::{Path, PathBuf};
@@ -189,6 +189,27 @@ impl Scene {
                         uvs: None,
                     };
                     geometry.push_mesh(mesh, material);
+                }
+                "implicit" => {
+                    let (Some(f), Some(b)) = (&s.f, s.bounds) else {
+                        return Err(Error::Invalid("an implicit needs f and bounds".into()));
+                    };
+                    let bounds = crate::math::Aabb::new(b[0].into(), b[1].into());
+                    let implicit = Implicit::new(f, bounds)
+                        .map_err(|e| Error::Invalid(format!("in the formula `{f}`, {e}")))?;
+                    geometry.push_implicit(implicit, material);
+                }
+                "torus" => {
+                    let (Some(c), Some(big), Some(small)) =
+                        (s.center, s.major_radius, s.minor_radius)
+                    else {
+                        return Err(Error::Invalid(
+                            "a torus needs center, major_radius and minor_radius".into(),
+                        ));
+                    };
+                    let axis = s.axis.unwrap_or([0.0, 1.0, 0.0]);
+                    let torus = Torus::new(c.into(), big, small, axis.into());
+                    geometry.push(ShapeKind::Torus(torus), material);
                 }
                 other => return Err(Error::Invalid(format!("unknown shape type `{other}`"))),
             }

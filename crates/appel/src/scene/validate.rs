@@ -13,7 +13,7 @@ pub const MAX_DEPTH: u32 = 64;
 pub const MAX_SPP: u32 = 65_536;
 pub const INTEGRATORS: &[&str] = &["raycast", "whitted"];
 pub const TRIANGLE_TESTS: &[&str] = &["watertight", "moller"];
-pub const SHAPE_TYPES: &[&str] = &["sphere", "plane", "triangle"];
+pub const SHAPE_TYPES: &[&str] = &["sphere", "plane", "triangle", "implicit", "torus"];
 pub const LIGHT_TYPES: &[&str] = &["point", "directional"];
 
 /// A problem and where it is.
@@ -273,10 +273,17 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         ("normal", s.normal.is_some()),
         ("size", s.size.is_some()),
         ("vertices", s.vertices.is_some()),
+        ("f", s.f.is_some()),
+        ("bounds", s.bounds.is_some()),
+        ("major_radius", s.major_radius.is_some()),
+        ("minor_radius", s.minor_radius.is_some()),
+        ("axis", s.axis.is_some()),
     ];
     let (required, optional): (&[&str], &[&str]) = match s.kind.as_str() {
         "sphere" => (&["center", "radius"], &[]),
         "plane" => (&["point", "normal"], &["size"]),
+        "implicit" => (&["f", "bounds"], &[]),
+        "torus" => (&["center", "major_radius", "minor_radius"], &["axis"]),
         _ => (&["vertices"], &[]),
     };
     for (k, is_present) in present {
@@ -312,6 +319,33 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
     }
     if let Some(v) = s.vertices {
         c.finite("vertices", v.as_flattened())?;
+    }
+    for (k, v) in [
+        ("major_radius", s.major_radius),
+        ("minor_radius", s.minor_radius),
+    ] {
+        if let Some(v) = v {
+            c.positive(k, v)?;
+        }
+    }
+    if let Some(a) = s.axis {
+        c.non_zero("axis", a)?;
+    }
+    if let Some(b) = s.bounds {
+        c.finite("bounds", b.as_flattened())?;
+        if (0..3).any(|i| b[0][i] >= b[1][i]) {
+            return c.fail(
+                "bounds",
+                format!(
+                    "`bounds` is [[xmin, ymin, zmin], [xmax, ymax, zmax]] with each min below its max, got {b:?}"
+                ),
+            );
+        }
+    }
+    if let Some(f) = &s.f {
+        if let Err(e) = crate::geometry::implicit::parse::parse(f) {
+            return c.fail("f", format!("in the formula `{f}`, {e}"));
+        }
     }
     Ok(())
 }
