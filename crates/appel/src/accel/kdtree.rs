@@ -33,7 +33,7 @@ impl Default for KdOptions {
             traversal_cost: 1.0,
             intersect_cost: 80.0,
             empty_bonus: 0.5,
-            max_prims: 1,
+            max_prims: 2,
             max_depth: None,
         }
     }
@@ -369,11 +369,12 @@ impl Builder<'_> {
                 bn.max[a] = plane;
                 an.min[a] = plane;
                 let (pb, pa) = (bn.surface_area() / area, an.surface_area() / area);
-                let bonus = if below == 0 || above == 0 {
-                    o.empty_bonus
-                } else {
-                    0.0
-                };
+                // The bonus rewards cutting off empty space, but only a slab worth a level of the
+                // tree: pbrt's exact planes cut empty space once per side, binned planes would
+                // otherwise shave a thin empty sliver off at every level until the depth limit.
+                let empty_slab =
+                    (below == 0 && k >= BINS / 8) || (above == 0 && k <= BINS - BINS / 8);
+                let bonus = if empty_slab { o.empty_bonus } else { 0.0 };
                 let cost = o.traversal_cost
                     + o.intersect_cost * (1.0 - bonus) * (pb * below as f32 + pa * above as f32);
                 if best.is_none_or(|(c, _, _)| cost < c) {

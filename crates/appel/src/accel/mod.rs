@@ -152,3 +152,34 @@ impl Accel {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_bvh_is_the_default() {
+        assert_eq!(AccelKind::NAMES, &["brute", "grid", "kdtree", "bvh"]);
+        for &n in AccelKind::NAMES {
+            assert_eq!(AccelKind::from_name(n).unwrap().name(), n);
+        }
+        assert_eq!(AccelKind::from_name("octree"), None);
+        assert_eq!(AccelKind::default(), AccelKind::Bvh);
+    }
+
+    #[test]
+    fn accel_dispatches_to_the_structure_it_was_built_as() {
+        let m = testutil::soup(200, 3);
+        let p = testutil::prims(&m);
+        for &n in AccelKind::NAMES {
+            let a = Accel::build(AccelKind::from_name(n).unwrap(), &p);
+            assert_eq!(a.stats().name, n);
+            assert_eq!(a.stats().primitives, 200);
+            let mut s = TraversalStats::default();
+            let r = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+            a.intersect(&p, &r, f32::INFINITY, &mut s);
+            a.occluded(&p, &r, f32::INFINITY, &mut s);
+            assert_eq!(s.rays, 2);
+        }
+    }
+}

@@ -91,16 +91,24 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
     p1t.z *= sz;
     p2t.z *= sz;
     let t_scaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
-    if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
+    // Early out before the division, loosened by a few ulps: `t_scaled` against `t_max * det` is
+    // rounded differently from `t` against `t_max`, and the exact test on `t` below must decide, so
+    // that whether a hit is reported never depends on the rounding of `t_max * det` (an
+    // acceleration structure calls this with other `t_max` values than brute force does).
+    let loose = t_max * det * (1.0 + 4.0 * f32::EPSILON);
+    if det < 0.0 && (t_scaled >= 0.0 || t_scaled < loose) {
         return None;
     }
-    if det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det) {
+    if det > 0.0 && (t_scaled <= 0.0 || t_scaled > loose) {
         return None;
     }
     let inv_det = 1.0 / det;
     let b1 = e1 * inv_det;
     let b2 = e2 * inv_det;
     let t = t_scaled * inv_det;
+    if t >= t_max {
+        return None;
+    }
 
     // Conservative check that t is positive by more than its rounding error.
     let max_zt = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();

@@ -2,8 +2,9 @@
 //!
 //! Binned SAH after Wald 2007 ("On fast construction of SAH-based bounding volume hierarchies"):
 //! centroids are binned along all three axes in one pass and every bin boundary is a candidate plane.
-//! Build memory is flat: one array of bounds, one of centroids and the index array that the build
-//! partitions in place, so a leaf ends up a contiguous range of it. Large ranges are built in parallel
+//! Build memory is flat: one array of (bounds, centroid, id) records that the build partitions in
+//! place - moving the records rather than indices into them keeps every pass sequential in memory -
+//! so a leaf ends up a contiguous range of it. Large ranges are built in parallel
 //! (`rayon::join`) into separate node arrays, each copied once into the final depth-first array.
 
 use super::node::BvhNode;
@@ -46,7 +47,10 @@ impl Default for BvhOptions {
             bins: 16,
             max_leaf: 8,
             leaf_size: 4,
-            traversal_cost: 1.0,
+            // A node visit weighs twice a triangle test. Measured on a 327k-triangle mesh (see
+            // docs/accel.md): 1:1 gave 1.7 triangles per leaf, 60% more memory and slower traversal;
+            // 4:1 even fewer nodes but slower camera rays.
+            traversal_cost: 2.0,
             intersect_cost: 1.0,
             parallel_threshold: 32 * 1024,
         }
@@ -60,10 +64,16 @@ const FORCE_MEDIAN_DEPTH: usize = 64;
 /// Ranges larger than this bin and bound their centroids in parallel chunks.
 const PARALLEL_SCAN: usize = 128 * 1024;
 
-pub(super) struct Ctx<'a> {
-    pub bounds: &'a [Aabb],
-    pub centroids: &'a [Vec3],
+pub(super) struct Ctx {
     pub opts: BvhOptions,
+}
+
+/// What the build knows of a primitive: 40 bytes.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BuildPrim {
+    pub bounds: Aabb,
+    pub centroid: Vec3,
+    pub id: u32,
 }
 
 /// The top of the tree, built in parallel: a few boxed nodes above chunks built sequentially.
@@ -87,7 +97,7 @@ enum Decision {
 
 /// Builds the flattened tree; `indices` (all primitives, in any order) is reordered so that each leaf
 /// is a contiguous range of it.
-pub(super) fn build(ctx: &Ctx, indices: &mut [u32]) -> Vec<BvhNode> {
+pub(super) fn build(ctx: &Ctx, indices: &mut [BuildPrim]) -> Vec<BvhNode> {
     if indices.is_empty() {
         return Vec::new();
     }
@@ -97,13 +107,13 @@ pub(super) fn build(ctx: &Ctx, indices: &mut [u32]) -> Vec<BvhNode> {
     out
 }
 
-fn build_top(ctx: &Ctx, indices: &mut [u32], base: usize, depth: usize) -> Top {
+fn build_top(ctx: &Ctx, indices: &mut [BuildPrim], base: usize, depth: usize) -> Top {
     if indices.len() <= ctx.opts.parallel_threshold {
         let mut v = Vec::with_capacity(indices.len());
         build_seq(ctx, indices, base, depth, &mut v);
         return Top::Chunk(v);
     }
-    let (bounds, cbounds) = range_bounds(ctx, indices);
+    let (bounds, cbounds) = range_bounds(indices);
     match decide(ctx, indices, bounds, cbounds, depth) {
         Decision::Leaf => Top::Chunk(vec![leaf(bounds, base, indices.len())]),
         Decision::Split { mid, axis } => {
@@ -123,8 +133,14 @@ fn build_top(ctx: &Ctx, indices: &mut [u32], base: usize, depth: usize) -> Top {
 
 /// Appends the subtree over `indices` to `out` in depth-first order. Interior offsets are relative to
 /// the start of `out`; leaf offsets are absolute positions in the index array.
-fn build_seq(ctx: &Ctx, indices: &mut [u32], base: usize, depth: usize, out: &mut Vec<BvhNode>) {
-    let (bounds, cbounds) = range_bounds(ctx, indices);
+fn build_seq(
+    ctx: &Ctx,
+    indices: &mut [BuildPrim],
+    base: usize,
+    depth: usize,
+    out: &mut Vec<BvhNode>,
+) {
+    let (bounds, cbounds) = range_bounds(indices);
     let me = out.len();
     match decide(ctx, indices, bounds, cbounds, depth) {
         Decision::Leaf => out.push(leaf(bounds, base, indices.len())),
@@ -186,13 +202,10 @@ fn interior(b: Aabb, axis: u16) -> BvhNode {
 }
 
 /// Bounds of the primitives and of their centroids.
-fn range_bounds(ctx: &Ctx, indices: &[u32]) -> (Aabb, Aabb) {
-    let scan = |idx: &[u32]| {
-        idx.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), &i| {
-            (
-                b.union(ctx.bounds[i as usize]),
-                c.include(ctx.centroids[i as usize]),
-            )
+fn range_bounds(indices: &[BuildPrim]) -> (Aabb, Aabb) {
+    let scan = |idx: &[BuildPrim]| {
+        idx.iter().fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| {
+            (b.union(p.bounds), c.include(p.centroid))
         })
     };
     if indices.len() > PARALLEL_SCAN {
@@ -206,7 +219,7 @@ fn range_bounds(ctx: &Ctx, indices: &[u32]) -> (Aabb, Aabb) {
 }
 
 /// Chooses leaf or split for a range and, for a split, partitions it in place.
-fn decide(ctx: &Ctx, idx: &mut [u32], bounds: Aabb, cb: Aabb, depth: usize) -> Decision {
+fn decide(ctx: &Ctx, idx: &mut [BuildPrim], bounds: Aabb, cb: Aabb, depth: usize) -> Decision {
     let o = &ctx.opts;
     let n = idx.len();
     if n == 1 {
@@ -234,16 +247,16 @@ fn decide(ctx: &Ctx, idx: &mut [u32], bounds: Aabb, cb: Aabb, depth: usize) -> D
             if n <= o.leaf_size.clamp(1, 255) {
                 return Decision::Leaf;
             }
-            median(ctx, idx, axis)
+            median(idx, axis)
         }
         BvhSplit::Midpoint => {
             if n <= o.leaf_size.clamp(1, 255) {
                 return Decision::Leaf;
             }
             let mid_plane = 0.5 * (cb.min[axis] + cb.max[axis]);
-            let mid = partition(idx, |i| ctx.centroids[i as usize][axis] < mid_plane);
+            let mid = partition(idx, |p| p.centroid[axis] < mid_plane);
             if mid == 0 || mid == n {
-                median(ctx, idx, axis)
+                median(idx, axis)
             } else {
                 Decision::Split { mid, axis }
             }
@@ -252,19 +265,17 @@ fn decide(ctx: &Ctx, idx: &mut [u32], bounds: Aabb, cb: Aabb, depth: usize) -> D
     }
 }
 
-fn median(ctx: &Ctx, idx: &mut [u32], axis: usize) -> Decision {
+fn median(idx: &mut [BuildPrim], axis: usize) -> Decision {
     let mid = idx.len() / 2;
-    idx.select_nth_unstable_by(mid, |&a, &b| {
-        ctx.centroids[a as usize][axis].total_cmp(&ctx.centroids[b as usize][axis])
-    });
+    idx.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
     Decision::Split { mid, axis }
 }
 
 /// Partitions `idx` so the elements satisfying `left` come first; returns how many do.
-fn partition(idx: &mut [u32], left: impl Fn(u32) -> bool) -> usize {
+fn partition(idx: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> usize {
     let mut mid = 0;
     for j in 0..idx.len() {
-        if left(idx[j]) {
+        if left(&idx[j]) {
             idx.swap(mid, j);
             mid += 1;
         }
@@ -287,7 +298,7 @@ fn bin_of(c: f32, lo: f32, scale: f32, nb: usize) -> usize {
     (((c - lo) * scale) as usize).min(nb - 1)
 }
 
-fn sah(ctx: &Ctx, idx: &mut [u32], bounds: Aabb, cb: Aabb) -> Decision {
+fn sah(ctx: &Ctx, idx: &mut [BuildPrim], bounds: Aabb, cb: Aabb) -> Decision {
     let o = &ctx.opts;
     let n = idx.len();
     let nb = o.bins.clamp(2, MAX_BINS);
@@ -301,13 +312,13 @@ fn sah(ctx: &Ctx, idx: &mut [u32], bounds: Aabb, cb: Aabb) -> Decision {
         }
     });
     let lo = cb.min;
-    let fill = |chunk: &[u32]| {
+    let fill = |chunk: &[BuildPrim]| {
         let mut bins: Bins = [[Bin {
             bounds: Aabb::EMPTY,
             count: 0,
         }; MAX_BINS]; 3];
-        for &i in chunk {
-            let (b, c) = (ctx.bounds[i as usize], ctx.centroids[i as usize]);
+        for p in chunk {
+            let (b, c) = (p.bounds, p.centroid);
             for a in 0..3 {
                 let k = bin_of(c[a], lo[a], scale[a], nb);
                 bins[a][k].bounds = bins[a][k].bounds.union(b);
@@ -379,17 +390,15 @@ fn sah(ctx: &Ctx, idx: &mut [u32], bounds: Aabb, cb: Aabb) -> Decision {
     let max_leaf = o.max_leaf.clamp(1, 255);
     match best {
         Some((cost, a, k)) if !(n <= max_leaf && leaf_cost <= cost) => {
-            let mid = partition(idx, |i| {
-                bin_of(ctx.centroids[i as usize][a], lo[a], scale[a], nb) <= k
-            });
+            let mid = partition(idx, |p| bin_of(p.centroid[a], lo[a], scale[a], nb) <= k);
             if mid == 0 || mid == n {
-                median(ctx, idx, a)
+                median(idx, a)
             } else {
                 Decision::Split { mid, axis: a }
             }
         }
         _ if n <= max_leaf => Decision::Leaf,
         // No usable plane (a zero-area node): split by count instead.
-        _ => median(ctx, idx, cb.largest_axis()),
+        _ => median(idx, cb.largest_axis()),
     }
 }

@@ -10,7 +10,9 @@ pub use node::BvhNode;
 pub(crate) use traverse::{far_scale, RayBox};
 
 use super::{AccelStats, Hit, Primitives, TraversalStats};
-use crate::math::{Aabb, Ray, Vec3};
+#[cfg(test)]
+use crate::math::Vec3;
+use crate::math::{Aabb, Ray};
 use rayon::prelude::*;
 
 #[derive(Clone, Debug, Default)]
@@ -34,15 +36,17 @@ impl Bvh {
             n < u32::MAX as usize,
             "a BVH indexes primitives with u32, got {n}"
         );
-        let bounds: Vec<Aabb> = (0..n).into_par_iter().map(|i| prims.bounds(i)).collect();
-        let centroids: Vec<Vec3> = (0..n).into_par_iter().map(|i| prims.centroid(i)).collect();
-        let mut indices: Vec<u32> = (0..n as u32).collect();
-        let ctx = build::Ctx {
-            bounds: &bounds,
-            centroids: &centroids,
-            opts,
-        };
-        let nodes = build::build(&ctx, &mut indices);
+        let mut refs: Vec<build::BuildPrim> = (0..n)
+            .into_par_iter()
+            .map(|i| build::BuildPrim {
+                bounds: prims.bounds(i),
+                centroid: prims.centroid(i),
+                id: i as u32,
+            })
+            .collect();
+        let nodes = build::build(&build::Ctx { opts }, &mut refs);
+        let indices: Vec<u32> = refs.par_iter().map(|r| r.id).collect();
+        drop(refs);
         let mut bvh = Self {
             nodes,
             indices,
