@@ -65,7 +65,9 @@ impl Plane {
             return None;
         }
         let t = (self.offset as f64 - n.dot(ray.origin.as_dvec3())) / denom;
-        if !(t > 0.0 && t < t_max as f64) {
+        // Decided in f32, the precision callers compare in.
+        let tf = t as f32;
+        if !(tf > 0.0 && tf < t_max) {
             return None;
         }
         if let Some(h) = self.half_size {

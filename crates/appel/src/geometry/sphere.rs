@@ -50,10 +50,14 @@ impl Sphere {
         if t0 > t1 {
             std::mem::swap(&mut t0, &mut t1);
         }
-        let t_max = t_max as f64;
-        let t = if t0 > 0.0 && t0 < t_max {
+        // Decide in f32, the precision callers compare in: a root that rounds to `t_max` is not nearer.
+        let inside = |t: f64| {
+            let t = t as f32;
+            t > 0.0 && t < t_max
+        };
+        let t = if inside(t0) {
             t0
-        } else if t1 > 0.0 && t1 < t_max {
+        } else if inside(t1) {
             t1
         } else {
             return None;
