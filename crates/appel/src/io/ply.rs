@@ -187,38 +187,16 @@ pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
             ),
         ));
     }
-    let face_index_prop = match header.elements.iter().find(|e| e.name == "face") {
-        Some(face) => {
-            let i = face
-                .props
-                .iter()
-                .position(|p| p.name == "vertex_indices" || p.name == "vertex_index")
-                .ok_or_else(|| {
-                    Error::input(
-                        Location::file(path),
-                        "the `face` element has no `vertex_indices` (or `vertex_index`) property",
-                    )
-                })?;
-            match face.props[i].kind {
-                Kind::List { item, .. } if item.is_int() => {}
-                _ => {
-                    return Err(Error::input(
-                        Location::file(path),
-                        "the face property `vertex_indices` must be a list of integers",
-                    ))
-                }
-            }
-            Some(i)
-        }
-        None => None,
-    };
+    for e in &header.elements {
+        index_prop(e, path)?;
+    }
     let mut out = Output::default();
     match header.format {
-        Format::Ascii => read_ascii(data, path, &header, face_index_prop, &mut out)?,
+        Format::Ascii => read_ascii(data, path, &header, &mut out)?,
         _ => {
             check_binary_sizes(data, path, &header)?;
             if !fast_binary(data, path, &header, &mut out)? {
-                read_binary(data, path, &header, face_index_prop, &mut out)?;
+                read_binary(data, path, &header, &mut out)?;
             }
         }
     }
@@ -427,6 +405,58 @@ fn non_finite_error(loc: Location, vertex: usize, p: Vec3) -> Error {
     )
 }
 
+/// In a `tristrips` list, -1 ends one strip and starts the next.
+const RESTART: u32 = u32::MAX;
+
+/// The face index list of a `face` or `tristrips` element (checked to be a list of integers), or
+/// `None` for other elements.
+fn index_prop(e: &Element, path: &Path) -> Result<Option<usize>> {
+    if e.name != "face" && e.name != "tristrips" {
+        return Ok(None);
+    }
+    let i = e
+        .props
+        .iter()
+        .position(|p| p.name == "vertex_indices" || p.name == "vertex_index")
+        .ok_or_else(|| {
+            Error::input(
+                Location::file(path),
+                format!(
+                    "the `{}` element has no `vertex_indices` (or `vertex_index`) property",
+                    e.name
+                ),
+            )
+        })?;
+    match e.props[i].kind {
+        Kind::List { item, .. } if item.is_int() => Ok(Some(i)),
+        _ => Err(Error::input(
+            Location::file(path),
+            format!(
+                "the {} property `{}` must be a list of integers",
+                e.name, e.props[i].name
+            ),
+        )),
+    }
+}
+
+/// Appends the triangles of triangle strips separated by [`RESTART`]: every three consecutive
+/// vertices, with the winding flipped on every other triangle so all face the same way. Triangles
+/// with a repeated vertex are the joins writers insert between strips and are dropped.
+fn push_strips(indices: &mut Vec<[u32; 3]>, list: &[u32]) {
+    for strip in list.split(|&i| i == RESTART) {
+        for (k, w) in strip.windows(3).enumerate() {
+            let t = if k % 2 == 0 {
+                [w[0], w[1], w[2]]
+            } else {
+                [w[1], w[0], w[2]]
+            };
+            if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+                indices.push(t);
+            }
+        }
+    }
+}
+
 /// Appends the fan triangulation of polygon `poly` (vertex indices already checked).
 #[inline]
 fn push_fan(indices: &mut Vec<[u32; 3]>, poly: &[u32]) {
@@ -483,13 +513,7 @@ impl Cursor<'_> {
     }
 }
 
-fn read_binary(
-    data: &[u8],
-    path: &Path,
-    h: &Header,
-    face_index_prop: Option<usize>,
-    out: &mut Output,
-) -> Result<()> {
+fn read_binary(data: &[u8], path: &Path, h: &Header, out: &mut Output) -> Result<()> {
     let mut c = Cursor {
         data,
         pos: h.data_start,
@@ -536,7 +560,9 @@ fn read_binary(
                 out.normals = slots.has_normals.then_some(normals);
                 out.uvs = slots.has_uvs.then_some(uvs);
             }
-            "face" => {
+            "face" | "tristrips" => {
+                let face_index_prop = index_prop(e, path)?;
+                let strip = e.name == "tristrips";
                 let mut poly: Vec<u32> = Vec::with_capacity(8);
                 for f in 0..e.count {
                     for (pi, p) in e.props.iter().enumerate() {
@@ -561,6 +587,10 @@ fn read_binary(
                                     let idx = c
                                         .value(item)
                                         .ok_or_else(|| truncated(path, c.pos, &what))?;
+                                    if strip && idx == -1.0 {
+                                        poly.push(RESTART);
+                                        continue;
+                                    }
                                     if idx < 0.0 || idx >= nv as f64 {
                                         return Err(index_error(
                                             path,
@@ -572,7 +602,11 @@ fn read_binary(
                                     }
                                     poly.push(idx as u32);
                                 }
-                                push_fan(&mut out.indices, &poly);
+                                if strip {
+                                    push_strips(&mut out.indices, &poly);
+                                } else {
+                                    push_fan(&mut out.indices, &poly);
+                                }
                             }
                             Kind::List { count, item } => skip_list(&mut c, count, item)
                                 .ok_or_else(|| truncated(path, c.pos, &what))?,
@@ -750,13 +784,7 @@ fn fast_index_error(path: &Path, pos: usize, f: u64, raw: u32, face: &Element, n
 // ---------------------------------------------------------------------------------------------
 // ASCII
 
-fn read_ascii(
-    data: &[u8],
-    path: &Path,
-    h: &Header,
-    face_index_prop: Option<usize>,
-    out: &mut Output,
-) -> Result<()> {
+fn read_ascii(data: &[u8], path: &Path, h: &Header, out: &mut Output) -> Result<()> {
     let body = &data[h.data_start..];
     // Every record is at least one digit and a separator per property: bounds the counts before
     // anything is reserved.
@@ -785,6 +813,8 @@ fn read_ascii(
     // An element without properties has empty records: nothing to read, however large its count.
     for e in h.elements.iter().filter(|e| !e.props.is_empty()) {
         let slots = (e.name == "vertex").then(|| vertex_slots(e));
+        let face_index_prop = index_prop(e, path)?;
+        let strip = e.name == "tristrips";
         if e.name == "vertex" {
             out.positions.reserve_exact(e.count as usize);
         }
@@ -833,18 +863,22 @@ fn read_ascii(
                                 format!("list length {n} is not a non-negative integer"),
                             ));
                         }
-                        let is_index = e.name == "face" && Some(pi) == face_index_prop;
+                        let is_index = Some(pi) == face_index_prop;
                         poly.clear();
                         for _ in 0..n as u64 {
                             let x = next(&format!("an item of `{}`", p.name))?;
-                            if is_index {
+                            if is_index && strip && x == -1.0 {
+                                poly.push(RESTART);
+                            } else if is_index {
                                 if !(x >= 0.0 && x < nv as f64 && x.fract() == 0.0) {
                                     return Err(index_error(path, loc(), r, x as i64, nv));
                                 }
                                 poly.push(x as u32);
                             }
                         }
-                        if is_index {
+                        if is_index && strip {
+                            push_strips(&mut out.indices, &poly);
+                        } else if is_index {
                             push_fan(&mut out.indices, &poly);
                         }
                     }
