@@ -364,7 +364,7 @@ fn shared_igea_scan_loads_if_present() {
 
 #[test]
 fn triangle_strips_alternate_winding_and_restart_at_minus_one() {
-    let text = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 2 0\n7 0 1 2 3 -1 3 2 4\n";
+    let text = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 2 0\n8 0 1 2 3 -1 3 2 4\n";
     let m = parse(text.as_bytes()).unwrap();
     assert_eq!(
         m.parts[0].mesh.indices,
