@@ -29,7 +29,7 @@ fn binary(big: bool) -> Vec<u8> {
         if big { "big" } else { "little" }
     )
     .into_bytes();
-    let verts = [
+    let verts: [[f64; 3]; 5] = [
         [0., 0., 0.],
         [1., 0., 0.],
         [1., 1., 0.],
@@ -38,7 +38,7 @@ fn binary(big: bool) -> Vec<u8> {
     ];
     for v in verts {
         for x in v {
-            put(&mut out, big, &(x as f64).to_le_bytes());
+            put(&mut out, big, &x.to_le_bytes());
         }
         for n in [0f32, 0.0, 1.0] {
             put(&mut out, big, &n.to_le_bytes());

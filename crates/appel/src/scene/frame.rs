@@ -8,8 +8,8 @@ use crate::math::{Aabb, Vec3};
 const VIEW_DIAGONAL: Vec3 = Vec3::new(1.0, 0.75, 1.25);
 
 /// Camera and lights that frame `bounds`: the camera sits on a diagonal and looks at the box's
-/// centre, at the distance where the bounding sphere (radius = half the box diagonal) just fits the
-/// narrower of the vertical and horizontal fields of view, plus a 5% margin. Lighting: a point
+/// centre, at the smallest distance where all eight corners of the box project inside the image
+/// with a 5% margin (never closer than the bounding sphere's radius, so the camera stays outside). Lighting: a point
 /// light beside the camera, scaled so the irradiance at the model is about 1 whatever its size, and
 /// a dim directional light from above for the shadowed sides. `fov`, `width` and `height` are kept
 /// from `base`, so that command-line overrides of the size feed into the framing.
@@ -24,10 +24,30 @@ pub fn frame_model(base: &Description, bounds: Aabb) -> Description {
     let half_v = (cam.fov.to_radians() * 0.5).clamp(1e-3, 1.5);
     let aspect = cam.width.max(1) as f32 / cam.height.max(1) as f32;
     let half_h = (half_v.tan() * aspect).atan();
-    let half = half_v.min(half_h);
-    let distance = 1.05 * radius / half.sin();
-    let eye = center + VIEW_DIAGONAL.normalize() * distance;
     let up = Vec3::Y;
+    let back = VIEW_DIAGONAL.normalize();
+    let (fwd, right) = (-back, (-back).cross(up).normalize());
+    let cam_up = right.cross(fwd);
+    // Corner o (relative to the centre) at camera distance D lies at depth D + o.fwd; it is in view
+    // when |o.right| <= tan_h (D + o.fwd) and |o.up| <= tan_v (D + o.fwd).
+    let (tan_v, tan_h) = (half_v.tan() / 1.05, half_h.tan() / 1.05);
+    let ext = if bounds.is_empty() {
+        Vec3::ONE
+    } else {
+        0.5 * bounds.extent()
+    };
+    let mut distance = radius * 1.01;
+    for i in 0..8 {
+        let o = Vec3::new(
+            if i & 1 == 0 { -ext.x } else { ext.x },
+            if i & 2 == 0 { -ext.y } else { ext.y },
+            if i & 4 == 0 { -ext.z } else { ext.z },
+        );
+        let need_h = o.dot(right).abs() / tan_h - o.dot(fwd);
+        let need_v = o.dot(cam_up).abs() / tan_v - o.dot(fwd);
+        distance = distance.max(need_h).max(need_v);
+    }
+    let eye = center + back * distance;
     let mut d = base.clone();
     d.camera = CameraDesc {
         eye: eye.into(),
