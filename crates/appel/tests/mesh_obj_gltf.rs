@@ -282,3 +282,14 @@ fn shared_gltf_models_load() {
         assert!(!m.materials.is_empty(), "{rel}");
     }
 }
+
+/// Found by fuzzing: gltf-json's validation indexed the accessor list without a bounds check.
+#[test]
+fn gltf_position_referring_to_a_missing_accessor_is_an_error_not_a_panic() {
+    let text =
+        r#"{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#;
+    let e = parse_gltf_with(text.as_bytes(), Path::new("t.gltf"), &|_| Err("no".into()))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("refers to accessor 0, but there are 0"), "{e}");
+}

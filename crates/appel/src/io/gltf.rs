@@ -47,7 +47,29 @@ pub fn parse_gltf_with(
     external: &dyn Fn(&str) -> std::result::Result<Vec<u8>, String>,
 ) -> Result<LoadedMesh> {
     let err = |msg: String| Error::input(Location::file(path), msg);
-    let gltf = Gltf::from_slice(data).map_err(|e| err(format!("invalid glTF: {e}")))?;
+    let raw =
+        Gltf::from_slice_without_validation(data).map_err(|e| err(format!("invalid glTF: {e}")))?;
+    // gltf-json 1.4's validation indexes `accessors[POSITION]` without a bounds check (found by
+    // fuzzing): check that reference before letting it validate the rest.
+    let json = raw.document.as_json();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, index) in &prim.attributes {
+                if index.value() >= json.accessors.len() {
+                    return Err(err(format!(
+                        "invalid glTF: mesh {m} primitive {p}: attribute {semantic:?} refers to accessor {}, but there are {}",
+                        index.value(),
+                        json.accessors.len()
+                    )));
+                }
+            }
+        }
+    }
+    let gltf = Gltf {
+        document: ::gltf::Document::from_json(raw.document.into_json())
+            .map_err(|e| err(format!("invalid glTF: {e}")))?,
+        blob: raw.blob,
+    };
     let mut buffers: Vec<Vec<u8>> = Vec::new();
     for b in gltf.document.buffers() {
         let bytes = match b.source() {
