@@ -1,9 +1,13 @@
 use anyhow::{anyhow, bail, Context, Result};
 use appel::io::image::{write_image, Aovs, ImageFormat};
+use appel::io::is_mesh_file;
 use appel::render::{render, RenderOptions};
 use appel::scene::builtin::builtin_scene;
 use appel::scene::parse::Syntax;
-use appel::scene::{description_from_str, load_description, validate, Description, Scene};
+use appel::scene::{
+    description_from_str, frame_model, load_description, model_description, validate, Description,
+    Scene,
+};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -13,7 +17,8 @@ use std::time::Instant;
 
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    /// A scene file (.toml or .json) or the name of a built-in scene (`appel scenes`). Default: whitted.
+    /// A scene file (.toml or .json), a mesh file to view (.ply, .obj, .gltf, .glb, .ply.gz, .obj.gz),
+    /// or the name of a built-in scene (`appel scenes`). Default: whitted.
     scene: Option<String>,
     /// Output image: .png (8-bit sRGB) or .exr (linear float RGB, plus AOVs).
     #[arg(short, long, default_value = "render.png")]
@@ -79,7 +84,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if aovs.any() && ImageFormat::from_path(&args.output)? != ImageFormat::Exr {
         bail!("--aov needs an .exr output: AOVs are written as EXR channels");
     }
-    let (mut description, base_dir) = read_scene(args.scene.as_deref())?;
+    let (mut description, base_dir, is_model) = read_scene_or_model(args.scene.as_deref())?;
     apply_overrides(&mut description, &args)?;
     validate::validate(&description)
         .map_err(|e| anyhow!("after command-line overrides: {}", e.message))?;
@@ -89,7 +94,15 @@ pub fn run(args: RenderArgs) -> Result<()> {
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .context("cannot start the worker threads")?;
-    let scene = pool.install(|| Scene::new(&description, &base_dir))?;
+    let mut scene = pool.install(|| Scene::new(&description, &base_dir))?;
+    if is_model {
+        // A bare mesh file: frame it now that its bounds are known; camera flags still win.
+        let mut framed = frame_model(&description, scene.geometry.bounds());
+        apply_overrides(&mut framed, &args)?;
+        validate::validate(&framed)
+            .map_err(|e| anyhow!("after command-line overrides: {}", e.message))?;
+        scene.set_view(&framed);
+    }
     if args.stats {
         let s = scene.accel_stats();
         eprintln!(
@@ -169,16 +182,37 @@ pub fn run(args: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// A scene file, or a built-in scene by name.
+/// A scene file, or a built-in scene by name. A mesh file gives an unframed one-mesh scene.
 pub fn read_scene(scene: Option<&str>) -> Result<(Description, PathBuf)> {
+    read_scene_or_model(scene).map(|(d, base, _)| (d, base))
+}
+
+/// A scene file, a mesh file (the flag says so: the caller frames it once the bounds are known),
+/// or a built-in scene by name.
+fn read_scene_or_model(scene: Option<&str>) -> Result<(Description, PathBuf, bool)> {
     let name = scene.unwrap_or("whitted");
     let path = Path::new(name);
+    if is_mesh_file(path) {
+        let file = path
+            .file_name()
+            .and_then(|f| f.to_str())
+            .ok_or_else(|| anyhow!("`{name}`: the file name is not valid UTF-8"))?;
+        if !path.is_file() {
+            bail!("{name}: no such mesh file");
+        }
+        let base_dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        return Ok((model_description(file), base_dir, true));
+    }
     if Syntax::from_path(path).is_none() && !path.exists() {
         if let Some(text) = builtin_scene(name) {
             let origin = PathBuf::from(format!("<built-in scene {name}>"));
             return Ok((
                 description_from_str(text, Syntax::Toml, &origin)?,
                 PathBuf::from("."),
+                false,
             ));
         }
         bail!(
@@ -191,7 +225,7 @@ pub fn read_scene(scene: Option<&str>) -> Result<(Description, PathBuf)> {
         );
     }
     let loaded = load_description(path)?;
-    Ok((loaded.description, loaded.base_dir))
+    Ok((loaded.description, loaded.base_dir, false))
 }
 
 /// `640x480` to `(640, 480)`.

@@ -308,3 +308,40 @@ fn built_in_scenes_are_listed_and_written_as_valid_scene_files() {
         .status
         .success());
 }
+
+#[test]
+fn a_mesh_file_renders_framed_and_a_bad_one_is_rejected_with_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    // A unit square as an OBJ quad: framed automatically, the centre pixel sees it.
+    std::fs::write(
+        dir.path().join("square.obj"),
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+    )
+    .unwrap();
+    let out = appel(
+        &[
+            "render",
+            "square.obj",
+            "-o",
+            "sq.png",
+            "--size",
+            "32x24",
+            "--quiet",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = image::open(dir.path().join("sq.png")).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (32, 24));
+    let background = *img.get_pixel(0, 0);
+    assert_ne!(
+        *img.get_pixel(16, 12),
+        background,
+        "centre pixel shows the model"
+    );
+    assert_rejected(
+        "bad.obj",
+        "v 0 0 0\nv 1 0 0\nf 1 2 7\n",
+        &["bad.obj:3:", "vertex index 7"],
+    );
+}

@@ -1,9 +1,14 @@
-//! Files in and out: images now, mesh formats with the geometry work.
+//! Files in and out: images, and triangle meshes (PLY, OBJ, glTF).
 
 mod atomic;
+pub mod gltf;
 pub mod image;
+pub mod mesh_file;
+pub mod obj;
+pub mod ply;
 mod ply_write;
 
 pub use ply_write::write_ply;
 
 pub use atomic::write_atomically;
+pub use mesh_file::{is_mesh_file, load_mesh, FileMaterial, LoadedMesh, MeshPart};

@@ -182,6 +182,62 @@ pub struct ShapeDesc {
     /// Axis of symmetry of a torus; default `[0, 1, 0]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<Vec3f>,
+    // mesh
+    /// A mesh file (.ply, .obj, .gltf, .glb, .ply.gz, .obj.gz), relative to the scene file's folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+}
+
+/// Places a mesh: scale first, then rotate, then translate (`M = T * R * S`).
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TransformDesc {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub translate: Option<Vec3f>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotate: Option<RotateDesc>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<ScaleDesc>,
+}
+
+/// A rotation by `degrees` about `axis` (right-handed: counter-clockwise looking down the axis).
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RotateDesc {
+    pub axis: Vec3f,
+    pub degrees: f32,
+}
+
+/// `scale = 2.0` or `scale = [1.0, 2.0, 1.0]`.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(untagged)]
+pub enum ScaleDesc {
+    Uniform(f32),
+    Axes(Vec3f),
+}
+
+impl ScaleDesc {
+    pub fn axes(self) -> Vec3f {
+        match self {
+            ScaleDesc::Uniform(s) => [s; 3],
+            ScaleDesc::Axes(a) => a,
+        }
+    }
+}
+
+impl TransformDesc {
+    /// `T * R * S`: applied to a point, scale acts first, then rotation, then translation.
+    pub fn matrix(&self) -> glam::Mat4 {
+        use glam::{Mat4, Quat, Vec3};
+        let s = Vec3::from(self.scale.map_or([1.0; 3], ScaleDesc::axes));
+        let r = self.rotate.as_ref().map_or(Quat::IDENTITY, |r| {
+            Quat::from_axis_angle(Vec3::from(r.axis).normalize(), r.degrees.to_radians())
+        });
+        let t = Vec3::from(self.translate.unwrap_or([0.0; 3]));
+        Mat4::from_scale_rotation_translation(s, r, t)
+    }
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -278,6 +334,13 @@ impl Description {
             sh.point = sh.point.map(sc);
             sh.size = sh.size.map(|z| z.map(|x| x * s));
             sh.vertices = sh.vertices.map(|v| v.map(sc));
+            if sh.file.is_some() {
+                // s * (T R S) = T(s t) R S(s S): scale the translation and the scale.
+                let t = sh.transform.get_or_insert_with(Default::default);
+                t.translate = t.translate.map(sc);
+                let axes = t.scale.map_or([1.0; 3], ScaleDesc::axes);
+                t.scale = Some(ScaleDesc::Axes(sc(axes)));
+            }
             sh.major_radius = sh.major_radius.map(|r| r * s);
             sh.minor_radius = sh.minor_radius.map(|r| r * s);
             sh.bounds = sh.bounds.map(|b| b.map(sc));

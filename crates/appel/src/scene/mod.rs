@@ -4,14 +4,17 @@
 pub mod builtin;
 mod camera;
 pub mod description;
+mod frame;
 mod geometry;
 mod light;
 mod material;
+mod mesh_shape;
 pub mod parse;
 pub mod validate;
 
 pub use camera::Camera;
 pub use description::Description;
+pub use frame::{frame_model, model_description};
 pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind};
 pub use light::Light;
 pub use material::{Checker, Material};
@@ -89,6 +92,8 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_else(|| PathBuf::from("."));
+    validate::files(&description, &base_dir)
+        .map_err(|invalid| located(&invalid, &text, syntax, path))?;
     Ok(LoadedDescription {
         description,
         base_dir,
@@ -98,20 +103,23 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
 /// Parses and validates scene text; `origin` names it in error messages.
 pub fn description_from_str(text: &str, syntax: Syntax, origin: &Path) -> Result<Description> {
     let description = parse_description(text, syntax, origin)?;
-    validate::validate(&description).map_err(|invalid| {
-        let location = match syntax {
-            Syntax::Toml => toml_span(text, &invalid.path)
-                .map(|span| {
-                    let (line, col) = parse::line_column(text, span.start);
-                    Location::line(origin, line, Some(col))
-                })
-                .unwrap_or_else(|| Location::file(origin)),
-            Syntax::Json => Location::file(origin),
-        };
-        let message = format!("{}: {}", path_string(&invalid.path), invalid.message);
-        Error::input(location, message)
-    })?;
+    validate::validate(&description).map_err(|invalid| located(&invalid, text, syntax, origin))?;
     Ok(description)
+}
+
+/// A validation problem as an error at the line and column where the value is written.
+fn located(invalid: &validate::Invalid, text: &str, syntax: Syntax, origin: &Path) -> Error {
+    let location = match syntax {
+        Syntax::Toml => toml_span(text, &invalid.path)
+            .map(|span| {
+                let (line, col) = parse::line_column(text, span.start);
+                Location::line(origin, line, Some(col))
+            })
+            .unwrap_or_else(|| Location::file(origin)),
+        Syntax::Json => Location::file(origin),
+    };
+    let message = format!("{}: {}", path_string(&invalid.path), invalid.message);
+    Error::input(location, message)
 }
 
 /// `shape[2].radius`, for messages.
@@ -133,7 +141,7 @@ fn path_string(path: &[PathSeg]) -> String {
 
 impl Scene {
     /// Builds a scene from a validated description. `base_dir` resolves relative file names.
-    pub fn new(d: &Description, _base_dir: &Path) -> Result<Scene> {
+    pub fn new(d: &Description, base_dir: &Path) -> Result<Scene> {
         let load_start = Instant::now();
         let settings = RenderSettings {
             integrator: match d.render.integrator.as_str() {
@@ -211,6 +219,18 @@ impl Scene {
                     let torus = Torus::new(c.into(), big, small, axis.into());
                     geometry.push(ShapeKind::Torus(torus), material);
                 }
+                "mesh" => {
+                    let Some(file) = &s.file else {
+                        return Err(Error::Invalid("a mesh needs a file".into()));
+                    };
+                    mesh_shape::add_mesh_file(
+                        &mut geometry,
+                        &mut materials,
+                        &base_dir.join(file),
+                        s.transform.as_ref(),
+                        s.material.is_some().then_some(material),
+                    )?;
+                }
                 other => return Err(Error::Invalid(format!("unknown shape type `{other}`"))),
             }
         }
@@ -247,6 +267,15 @@ impl Scene {
     pub fn occluded(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> bool {
         self.geometry.occluded_unbounded(ray, t_max)
             || self.accel.occluded(&self.geometry, ray, t_max, stats)
+    }
+
+    /// Replaces the camera, lights and environment with those of `d` (geometry and settings stay):
+    /// used to frame a bare mesh file once its bounds are known.
+    pub fn set_view(&mut self, d: &Description) {
+        self.camera = Camera::new(&d.camera);
+        self.lights = d.lights.iter().map(Light::new).collect();
+        self.background = d.environment.background.into();
+        self.ambient = d.environment.ambient.into();
     }
 
     pub fn material(&self, hit: &SceneHit) -> &Material {

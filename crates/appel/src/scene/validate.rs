@@ -13,7 +13,7 @@ pub const MAX_DEPTH: u32 = 64;
 pub const MAX_SPP: u32 = 65_536;
 pub const INTEGRATORS: &[&str] = &["raycast", "whitted"];
 pub const TRIANGLE_TESTS: &[&str] = &["watertight", "moller"];
-pub const SHAPE_TYPES: &[&str] = &["sphere", "plane", "triangle", "implicit", "torus"];
+pub const SHAPE_TYPES: &[&str] = &["sphere", "plane", "triangle", "implicit", "torus", "mesh"];
 pub const LIGHT_TYPES: &[&str] = &["point", "directional"];
 
 /// A problem and where it is.
@@ -278,12 +278,15 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         ("major_radius", s.major_radius.is_some()),
         ("minor_radius", s.minor_radius.is_some()),
         ("axis", s.axis.is_some()),
+        ("file", s.file.is_some()),
+        ("transform", s.transform.is_some()),
     ];
     let (required, optional): (&[&str], &[&str]) = match s.kind.as_str() {
         "sphere" => (&["center", "radius"], &[]),
         "plane" => (&["point", "normal"], &["size"]),
         "implicit" => (&["f", "bounds"], &[]),
         "torus" => (&["center", "major_radius", "minor_radius"], &["axis"]),
+        "mesh" => (&["file"], &["transform"]),
         _ => (&["vertices"], &[]),
     };
     for (k, is_present) in present {
@@ -345,6 +348,51 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
     if let Some(f) = &s.f {
         if let Err(e) = crate::geometry::implicit::parse::parse(f) {
             return c.fail("f", format!("in the formula `{f}`, {e}"));
+        }
+    }
+    if let Some(f) = &s.file {
+        if f.is_empty() {
+            return c.fail("file", "`file` must name a mesh file");
+        }
+    }
+    if let Some(t) = &s.transform {
+        c.at(key("transform"), |c| {
+            if let Some(tr) = t.translate {
+                c.finite("translate", &tr)?;
+            }
+            if let Some(r) = &t.rotate {
+                c.at(key("rotate"), |c| {
+                    c.non_zero("axis", r.axis)?;
+                    c.finite("degrees", &[r.degrees])
+                })?;
+            }
+            if let Some(sc) = t.scale {
+                let axes = sc.axes();
+                c.finite("scale", &axes)?;
+                if axes.contains(&0.0) {
+                    return c.fail(
+                        "scale",
+                        "`scale` must not be zero: it would flatten the mesh",
+                    );
+                }
+            }
+            Ok(())
+        })?;
+    }
+    Ok(())
+}
+
+/// Checks that every mesh file the description names exists, relative to `base_dir`.
+pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid> {
+    for (i, s) in d.shapes.iter().enumerate() {
+        if let Some(f) = &s.file {
+            let p = base_dir.join(f);
+            if !p.is_file() {
+                return Err(Invalid {
+                    path: vec![key("shape"), PathSeg::Index(i), key("file")],
+                    message: format!("the mesh file `{}` does not exist", p.display()),
+                });
+            }
         }
     }
     Ok(())

@@ -1,0 +1,155 @@
+//! A scene for a bare mesh file (`appel render model.ply`): the camera, lights and background that
+//! show the model whole.
+
+use super::description::{CameraDesc, Description, LightDesc, ShapeDesc};
+use crate::math::{Aabb, Vec3};
+
+/// The direction from the model's centre to the camera: a diagonal from the front right, above.
+const VIEW_DIAGONAL: Vec3 = Vec3::new(1.0, 0.75, 1.25);
+
+/// Camera and lights that frame `bounds`: the camera sits on a diagonal and looks at the box's
+/// centre, at the smallest distance where all eight corners of the box project inside the image
+/// with a 5% margin (never closer than the bounding sphere's radius, so the camera stays outside). Lighting: a point
+/// light beside the camera, scaled so the irradiance at the model is about 1 whatever its size, and
+/// a dim directional light from above for the shadowed sides. `fov`, `width` and `height` are kept
+/// from `base`, so that command-line overrides of the size feed into the framing.
+pub fn frame_model(base: &Description, bounds: Aabb) -> Description {
+    let (center, radius) = if bounds.is_empty() || !bounds.extent().is_finite() {
+        (Vec3::ZERO, 1.0)
+    } else {
+        let r = 0.5 * bounds.extent().length();
+        (bounds.center(), if r > 0.0 { r } else { 1.0 })
+    };
+    let cam = &base.camera;
+    let half_v = (cam.fov.to_radians() * 0.5).clamp(1e-3, 1.5);
+    let aspect = cam.width.max(1) as f32 / cam.height.max(1) as f32;
+    let half_h = (half_v.tan() * aspect).atan();
+    let up = Vec3::Y;
+    let back = VIEW_DIAGONAL.normalize();
+    let (fwd, right) = (-back, (-back).cross(up).normalize());
+    let cam_up = right.cross(fwd);
+    // Corner o (relative to the centre) at camera distance D lies at depth D + o.fwd; it is in view
+    // when |o.right| <= tan_h (D + o.fwd) and |o.up| <= tan_v (D + o.fwd).
+    let (tan_v, tan_h) = (half_v.tan() / 1.05, half_h.tan() / 1.05);
+    let ext = if bounds.is_empty() {
+        Vec3::ONE
+    } else {
+        0.5 * bounds.extent()
+    };
+    let mut distance = radius * 1.01;
+    for i in 0..8 {
+        let o = Vec3::new(
+            if i & 1 == 0 { -ext.x } else { ext.x },
+            if i & 2 == 0 { -ext.y } else { ext.y },
+            if i & 4 == 0 { -ext.z } else { ext.z },
+        );
+        let need_h = o.dot(right).abs() / tan_h - o.dot(fwd);
+        let need_v = o.dot(cam_up).abs() / tan_v - o.dot(fwd);
+        distance = distance.max(need_h).max(need_v);
+    }
+    let eye = center + back * distance;
+    let mut d = base.clone();
+    d.camera = CameraDesc {
+        eye: eye.into(),
+        look_at: center.into(),
+        up: up.into(),
+        ..cam.clone()
+    };
+    // Beside the camera (up and to the left) so that shading shows the shape.
+    let right = (center - eye).cross(up).normalize_or_zero();
+    let light_pos = eye + (0.3 * up - 0.3 * right) * distance;
+    let light_distance = (light_pos - center).length();
+    d.lights = vec![
+        LightDesc {
+            kind: "point".into(),
+            position: Some(light_pos.into()),
+            direction: None,
+            color: [1.0; 3],
+            intensity: light_distance * light_distance,
+        },
+        LightDesc {
+            kind: "directional".into(),
+            position: None,
+            direction: Some([-0.3, -1.0, -0.2]),
+            color: [1.0; 3],
+            intensity: 0.25,
+        },
+    ];
+    d.environment.background = [0.3, 0.3, 0.3];
+    d
+}
+
+/// A scene with one mesh shape, `file` relative to the scene's base folder, not yet framed: the
+/// camera looks at the unit cube at the origin until [`frame_model`] is given the real bounds.
+pub fn model_description(file: &str) -> Description {
+    let base = Description {
+        camera: CameraDesc {
+            eye: [0.0, 0.0, 5.0],
+            look_at: [0.0; 3],
+            up: [0.0, 1.0, 0.0],
+            fov: 45.0,
+            width: 640,
+            height: 480,
+        },
+        render: Default::default(),
+        environment: Default::default(),
+        materials: Default::default(),
+        shapes: vec![ShapeDesc {
+            kind: "mesh".into(),
+            file: Some(file.into()),
+            ..Default::default()
+        }],
+        lights: vec![],
+    };
+    frame_model(&base, Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Camera;
+
+    /// Every corner of the box must project inside the image, and the box must fill a good part of
+    /// it (the framing is tight, not just safe).
+    #[test]
+    fn framed_box_is_inside_the_image_and_fills_it() {
+        for (min, max, w, h) in [
+            (Vec3::new(-1.0, -2.0, 0.5), Vec3::new(3.0, 0.0, 0.7), 64, 48),
+            (
+                Vec3::new(100.0, 0.0, 0.0),
+                Vec3::new(100.001, 0.002, 0.001),
+                48,
+                64,
+            ),
+        ] {
+            let mut base = model_description("x.ply");
+            base.camera.width = w;
+            base.camera.height = h;
+            let d = frame_model(&base, Aabb::new(min, max));
+            let cam = Camera::new(&d.camera);
+            let eye = Vec3::from(d.camera.eye);
+            let forward = (Vec3::from(d.camera.look_at) - eye).normalize();
+            let right = forward.cross(Vec3::Y).normalize();
+            let up = right.cross(forward);
+            let tan_v = (d.camera.fov.to_radians() / 2.0).tan();
+            let tan_h = tan_v * w as f32 / h as f32;
+            let mut max_ndc: f32 = 0.0;
+            for i in 0..8 {
+                let c = Vec3::new(
+                    if i & 1 == 0 { min.x } else { max.x },
+                    if i & 2 == 0 { min.y } else { max.y },
+                    if i & 4 == 0 { min.z } else { max.z },
+                );
+                let v = c - eye;
+                let z = v.dot(forward);
+                assert!(z > 0.0);
+                let x = v.dot(right) / z / tan_h;
+                let y = v.dot(up) / z / tan_v;
+                max_ndc = max_ndc.max(x.abs()).max(y.abs());
+            }
+            assert!(max_ndc < 1.0, "corner outside the image: {max_ndc}");
+            assert!(max_ndc > 0.4, "model too small in frame: {max_ndc}");
+            let _ = cam;
+        }
+    }
+}

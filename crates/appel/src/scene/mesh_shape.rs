@@ -1,0 +1,63 @@
+//! `type = "mesh"` shapes: a mesh file, placed by its transform, with its own materials unless the
+//! shape names one.
+
+use super::description::{MaterialDesc, TransformDesc};
+use super::{Geometry, Material};
+use crate::error::{Error, Location, Result};
+use crate::io::{load_mesh, FileMaterial};
+use std::path::Path;
+
+/// Loads `path`, transforms it and adds one mesh shape per part. `material` overrides the file's
+/// materials when the scene names one.
+pub(super) fn add_mesh_file(
+    geometry: &mut Geometry,
+    materials: &mut Vec<Material>,
+    path: &Path,
+    transform: Option<&TransformDesc>,
+    material: Option<u32>,
+) -> Result<()> {
+    let mut loaded = load_mesh(path)?;
+    if let Some(t) = transform {
+        loaded.transform(t.matrix());
+        let finite = loaded
+            .parts
+            .iter()
+            .all(|p| p.mesh.positions.iter().all(|v| v.is_finite()));
+        if !finite {
+            return Err(Error::input(
+                Location::file(path),
+                "the transform moves vertices beyond the range of f32",
+            ));
+        }
+    }
+    let first = materials.len() as u32;
+    if material.is_none() {
+        materials.extend(loaded.materials.iter().map(material_from_file));
+    }
+    for part in loaded.parts {
+        let id = material.unwrap_or_else(|| part.material.map_or(0, |m| first + m));
+        geometry.push_mesh(part.mesh, id);
+    }
+    Ok(())
+}
+
+/// A file's material in Whitted's model (see `docs/meshes.md`): `Kd` is the diffuse colour with
+/// coefficient 1, the largest component of `Ks` the specular coefficient, `Ns` the Blinn exponent,
+/// `1 - d` the transmission with `Ni` as its index of refraction.
+pub fn material_from_file(m: &FileMaterial) -> Material {
+    let clamp = |x: f32| if x.is_finite() { x.max(0.0) } else { 0.0 };
+    let d = MaterialDesc {
+        color: m.diffuse.map(clamp),
+        diffuse: 1.0,
+        specular: clamp(m.specular.into_iter().fold(0.0, f32::max)),
+        shininess: clamp(m.shininess).max(1.0),
+        transmission: clamp(1.0 - m.opacity),
+        ior: if m.ior.is_finite() && m.ior > 0.0 {
+            m.ior
+        } else {
+            1.5
+        },
+        ..Default::default()
+    };
+    Material::new(&d)
+}
