@@ -65,17 +65,19 @@ pub fn frame_model(base: &Description, bounds: Aabb) -> Description {
             position: Some(light_pos.into()),
             direction: None,
             color: [1.0; 3],
-            intensity: light_distance * light_distance,
+            // Irradiance 0.55 at the model's centre: lit faces of an albedo-0.8 surface come out at
+            // about 0.5 linear, mid-grey in sRGB, leaving room for the highlights of brighter albedos.
+            intensity: 0.55 * light_distance * light_distance,
         },
         LightDesc {
             kind: "directional".into(),
             position: None,
             direction: Some([-0.3, -1.0, -0.2]),
             color: [1.0; 3],
-            intensity: 0.25,
+            intensity: 0.15,
         },
     ];
-    d.environment.background = [0.3, 0.3, 0.3];
+    d.environment.background = [0.15, 0.15, 0.17];
     d
 }
 
