@@ -1,7 +1,8 @@
+use crate::scene_args::{load_scene, parse_size, ViewArgs};
 use anyhow::{anyhow, bail, Result};
 use appel::accel::AccelKind;
 use appel::bench::{bench_accel, bench_scene, BenchOptions, BenchRays, BenchTarget, BENCH_SCENES};
-use appel::scene::Scene;
+use appel::scene::Description;
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
@@ -20,9 +21,8 @@ pub struct BenchArgs {
     /// Triangle count of the generated benchmark scenes.
     #[arg(long, default_value_t = 100_000)]
     triangles: usize,
-    /// Camera resolution for the rays, as WxH.
-    #[arg(long, value_name = "WxH", default_value = "640x480")]
-    size: String,
+    #[command(flatten)]
+    view: ViewArgs,
     /// Builds per structure (the median is reported).
     #[arg(long, default_value_t = 3)]
     builds: usize,
@@ -32,7 +32,11 @@ pub struct BenchArgs {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    let (w, h) = crate::render_cmd::parse_size(&args.size)?;
+    // Camera rays at 640x480 unless --size says otherwise.
+    let (w, h) = match &args.view.size {
+        Some(size) => parse_size(size)?,
+        None => (640, 480),
+    };
     let kinds: Vec<AccelKind> = args
         .accel
         .split(',')
@@ -45,7 +49,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             })
         })
         .collect::<Result<_>>()?;
-    let target = load_target(&args.target, args.triangles, w, h)?;
+    let target = load_target(&args.target, args.triangles, w, h, &args.view)?;
     let options = BenchOptions {
         build_runs: args.builds,
         trace_runs: args.runs,
@@ -96,26 +100,36 @@ pub fn run(args: BenchArgs) -> Result<()> {
     Ok(())
 }
 
-fn load_target(name: &str, triangles: usize, w: u32, h: u32) -> Result<BenchTarget> {
-    if let Some(t) = bench_scene(name, triangles, w, h) {
+fn load_target(
+    name: &str,
+    triangles: usize,
+    w: u32,
+    h: u32,
+    view: &ViewArgs,
+) -> Result<BenchTarget> {
+    if let Some(mut t) = bench_scene(name, triangles, w, h) {
+        if view.eye.is_some() || view.look_at.is_some() || view.up.is_some() || view.fov.is_some() {
+            bail!("the camera of a generated benchmark scene is fixed; --size is the only view flag it takes");
+        }
+        t.name = name.to_string();
         return Ok(t);
     }
-    let (mut description, base_dir) = match crate::render_cmd::read_scene(Some(name)) {
-        Ok(x) => x,
-        Err(e) => bail!(
-            "{e:#}\n(benchmark scenes: {})",
+    let adjust = |d: &mut Description| {
+        // The structures are built by the benchmark itself; the scene's own choice is not measured.
+        d.render.accel = "brute".into();
+        (d.camera.width, d.camera.height) = (w, h);
+        view.apply(d)
+    };
+    let (scene, _) = load_scene(Some(name), adjust).map_err(|e| {
+        anyhow!(
+            "{e:#}\n(generated benchmark scenes: {})",
             BENCH_SCENES
                 .iter()
                 .map(|s| s.0)
                 .collect::<Vec<_>>()
                 .join(", ")
-        ),
-    };
-    description.camera.width = w;
-    description.camera.height = h;
-    // The structure is built by the benchmark itself; the scene's own choice does not matter here.
-    description.render.accel = "brute".into();
-    let scene = Scene::new(&description, &base_dir)?;
+        )
+    })?;
     Ok(BenchTarget {
         name: name.to_string(),
         geometry: scene.geometry,

@@ -1,5 +1,6 @@
+use crate::scene_args::load_scene;
 use anyhow::{bail, Result};
-use appel::scene::{Scene, ShapeKind};
+use appel::scene::ShapeKind;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -22,9 +23,10 @@ pub fn run(args: ConvertArgs) -> Result<()> {
             args.output.display()
         );
     }
-    let (mut description, base_dir) = crate::render_cmd::read_scene(Some(&args.input))?;
-    description.render.accel = "brute".into();
-    let scene = Scene::new(&description, &base_dir)?;
+    let (scene, _) = load_scene(Some(&args.input), |d| {
+        d.render.accel = "brute".into();
+        Ok(())
+    })?;
     let meshes: Vec<_> = scene
         .geometry
         .shapes

@@ -4,6 +4,7 @@
 mod bench_cmd;
 mod convert_cmd;
 mod render_cmd;
+mod scene_args;
 mod scenes_cmd;
 
 use clap::{Parser, Subcommand};

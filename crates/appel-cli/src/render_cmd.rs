@@ -1,19 +1,13 @@
+use crate::scene_args::{load_scene, ViewArgs};
 use anyhow::{anyhow, bail, Context, Result};
 use appel::io::image::{write_image, Aovs, ImageFormat};
-use appel::io::is_mesh_file;
 use appel::render::{render, RenderOptions};
-use appel::scene::builtin::builtin_scene;
-use appel::scene::parse::Syntax;
-use appel::scene::{
-    description_from_str, frame_model, load_description, model_description, validate, Description,
-    Scene,
-};
+use appel::scene::Description;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
 
 #[derive(clap::Args)]
 pub struct RenderArgs {
@@ -47,25 +41,11 @@ pub struct RenderArgs {
     /// Override render.max_depth.
     #[arg(long)]
     max_depth: Option<u32>,
-    /// Override the image size, as WxH.
-    #[arg(long, value_name = "WxH")]
-    size: Option<String>,
-    /// Override camera.eye, as x,y,z.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    eye: Option<String>,
-    /// Override camera.look_at, as x,y,z.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    look_at: Option<String>,
-    /// Override camera.up, as x,y,z.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    up: Option<String>,
-    /// Override camera.fov (vertical, degrees).
-    #[arg(long)]
-    fov: Option<f32>,
+    #[command(flatten)]
+    view: ViewArgs,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
-    let start = Instant::now();
     // Check the output name first, so a typo fails before a long render.
     ImageFormat::from_path(&args.output)?;
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -84,25 +64,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if aovs.any() && ImageFormat::from_path(&args.output)? != ImageFormat::Exr {
         bail!("--aov needs an .exr output: AOVs are written as EXR channels");
     }
-    let (mut description, base_dir, is_model) = read_scene_or_model(args.scene.as_deref())?;
-    apply_overrides(&mut description, &args)?;
-    validate::validate(&description)
-        .map_err(|e| anyhow!("after command-line overrides: {}", e.message))?;
-    let parse_time = start.elapsed();
-
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .context("cannot start the worker threads")?;
-    let mut scene = pool.install(|| Scene::new(&description, &base_dir))?;
-    if is_model {
-        // A bare mesh file: frame it now that its bounds are known; camera flags still win.
-        let mut framed = frame_model(&description, scene.geometry.bounds());
-        apply_overrides(&mut framed, &args)?;
-        validate::validate(&framed)
-            .map_err(|e| anyhow!("after command-line overrides: {}", e.message))?;
-        scene.set_view(&framed);
-    }
+    let (scene, parse_time) =
+        pool.install(|| load_scene(args.scene.as_deref(), |d| apply_settings(d, &args)))?;
     if args.stats {
         let s = scene.accel_stats();
         eprintln!(
@@ -182,71 +149,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// A scene file, or a built-in scene by name. A mesh file gives an unframed one-mesh scene.
-pub fn read_scene(scene: Option<&str>) -> Result<(Description, PathBuf)> {
-    read_scene_or_model(scene).map(|(d, base, _)| (d, base))
-}
-
-/// A scene file, a mesh file (the flag says so: the caller frames it once the bounds are known),
-/// or a built-in scene by name.
-fn read_scene_or_model(scene: Option<&str>) -> Result<(Description, PathBuf, bool)> {
-    let name = scene.unwrap_or("whitted");
-    let path = Path::new(name);
-    if is_mesh_file(path) {
-        let file = path
-            .file_name()
-            .and_then(|f| f.to_str())
-            .ok_or_else(|| anyhow!("`{name}`: the file name is not valid UTF-8"))?;
-        if !path.is_file() {
-            bail!("{name}: no such mesh file");
-        }
-        let base_dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
-        return Ok((model_description(file), base_dir, true));
-    }
-    if Syntax::from_path(path).is_none() && !path.exists() {
-        if let Some(text) = builtin_scene(name) {
-            let origin = PathBuf::from(format!("<built-in scene {name}>"));
-            return Ok((
-                description_from_str(text, Syntax::Toml, &origin)?,
-                PathBuf::from("."),
-                false,
-            ));
-        }
-        bail!(
-            "`{name}` is neither a scene file nor a built-in scene (built-in: {})",
-            appel::scene::builtin::BUILTIN_SCENES
-                .iter()
-                .map(|s| s.0)
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-    }
-    let loaded = load_description(path)?;
-    Ok((loaded.description, loaded.base_dir, false))
-}
-
-/// `640x480` to `(640, 480)`.
-pub fn parse_size(size: &str) -> Result<(u32, u32)> {
-    size.split_once(['x', 'X'])
-        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
-        .ok_or_else(|| anyhow!("--size: expected WIDTHxHEIGHT such as 640x480, got `{size}`"))
-}
-
-fn parse_vec3(flag: &str, s: &str) -> Result<[f32; 3]> {
-    let parts: Vec<&str> = s.split(',').collect();
-    let v: Vec<f32> = parts
-        .iter()
-        .map(|p| p.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| anyhow!("{flag}: expected three numbers as x,y,z, got `{s}`"))?;
-    v.try_into()
-        .map_err(|_| anyhow!("{flag}: expected three numbers as x,y,z, got `{s}`"))
-}
-
-fn apply_overrides(d: &mut Description, a: &RenderArgs) -> Result<()> {
+/// Applies the flags that override the scene's `[render]` settings and its camera.
+fn apply_settings(d: &mut Description, a: &RenderArgs) -> Result<()> {
     if let Some(x) = &a.accel {
         d.render.accel = x.clone();
     }
@@ -259,27 +163,5 @@ fn apply_overrides(d: &mut Description, a: &RenderArgs) -> Result<()> {
     if let Some(x) = a.max_depth {
         d.render.max_depth = x;
     }
-    if let Some(size) = &a.size {
-        let (w, h) = size
-            .split_once(['x', 'X'])
-            .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
-            .ok_or_else(|| {
-                anyhow!("--size: expected WIDTHxHEIGHT such as 640x480, got `{size}`")
-            })?;
-        d.camera.width = w;
-        d.camera.height = h;
-    }
-    if let Some(x) = &a.eye {
-        d.camera.eye = parse_vec3("--eye", x)?;
-    }
-    if let Some(x) = &a.look_at {
-        d.camera.look_at = parse_vec3("--look-at", x)?;
-    }
-    if let Some(x) = &a.up {
-        d.camera.up = parse_vec3("--up", x)?;
-    }
-    if let Some(x) = a.fov {
-        d.camera.fov = x;
-    }
-    Ok(())
+    a.view.apply(d)
 }

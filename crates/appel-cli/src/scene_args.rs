@@ -1,0 +1,140 @@
+//! What every subcommand that reads a scene shares: finding it (a scene file, a mesh file to frame,
+//! or a built-in scene), the camera flags, and building it.
+
+use anyhow::{anyhow, bail, Result};
+use appel::io::is_mesh_file;
+use appel::scene::builtin::builtin_scene;
+use appel::scene::parse::Syntax;
+use appel::scene::{
+    description_from_str, frame_model, load_description, model_description, validate, Description,
+    Scene,
+};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Flags that override the camera of a scene, or the automatic framing of a mesh file.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct ViewArgs {
+    /// Override the image size, as WxH.
+    #[arg(long, value_name = "WxH")]
+    pub size: Option<String>,
+    /// Override camera.eye, as x,y,z.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub eye: Option<String>,
+    /// Override camera.look_at, as x,y,z.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub look_at: Option<String>,
+    /// Override camera.up, as x,y,z.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub up: Option<String>,
+    /// Override camera.fov (vertical, degrees).
+    #[arg(long)]
+    pub fov: Option<f32>,
+}
+
+impl ViewArgs {
+    pub fn apply(&self, d: &mut Description) -> Result<()> {
+        if let Some(size) = &self.size {
+            (d.camera.width, d.camera.height) = parse_size(size)?;
+        }
+        if let Some(x) = &self.eye {
+            d.camera.eye = parse_vec3("--eye", x)?;
+        }
+        if let Some(x) = &self.look_at {
+            d.camera.look_at = parse_vec3("--look-at", x)?;
+        }
+        if let Some(x) = &self.up {
+            d.camera.up = parse_vec3("--up", x)?;
+        }
+        if let Some(x) = self.fov {
+            d.camera.fov = x;
+        }
+        Ok(())
+    }
+}
+
+/// Reads a scene (file, mesh file or built-in), lets `adjust` apply command-line overrides, checks the
+/// result, and builds it on the current thread pool. A mesh file is framed once its bounds are known,
+/// and `adjust` runs again so that camera flags win over the framing. Returns the scene and the time
+/// spent reading and checking the scene file.
+pub fn load_scene(
+    name: Option<&str>,
+    adjust: impl Fn(&mut Description) -> Result<()>,
+) -> Result<(Scene, Duration)> {
+    let start = Instant::now();
+    let (mut description, base_dir, is_model) = read_scene_or_model(name)?;
+    adjust(&mut description)?;
+    check(&description)?;
+    let parse_time = start.elapsed();
+    let mut scene = Scene::new(&description, &base_dir)?;
+    if is_model {
+        let mut framed = frame_model(&description, scene.geometry.bounds());
+        adjust(&mut framed)?;
+        check(&framed)?;
+        scene.set_view(&framed);
+    }
+    Ok((scene, parse_time))
+}
+
+fn check(d: &Description) -> Result<()> {
+    validate::validate(d).map_err(|e| anyhow!("after command-line overrides: {}", e.message))
+}
+
+/// A scene file, a mesh file (the flag says so: the caller frames it once the bounds are known),
+/// or a built-in scene by name.
+fn read_scene_or_model(scene: Option<&str>) -> Result<(Description, PathBuf, bool)> {
+    let name = scene.unwrap_or("whitted");
+    let path = Path::new(name);
+    if is_mesh_file(path) {
+        let file = path
+            .file_name()
+            .and_then(|f| f.to_str())
+            .ok_or_else(|| anyhow!("`{name}`: the file name is not valid UTF-8"))?;
+        if !path.is_file() {
+            bail!("{name}: no such mesh file");
+        }
+        let base_dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        return Ok((model_description(file), base_dir, true));
+    }
+    if Syntax::from_path(path).is_none() && !path.exists() {
+        if let Some(text) = builtin_scene(name) {
+            let origin = PathBuf::from(format!("<built-in scene {name}>"));
+            return Ok((
+                description_from_str(text, Syntax::Toml, &origin)?,
+                PathBuf::from("."),
+                false,
+            ));
+        }
+        bail!(
+            "`{name}` is neither a scene file nor a built-in scene (built-in: {})",
+            appel::scene::builtin::BUILTIN_SCENES
+                .iter()
+                .map(|s| s.0)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    let loaded = load_description(path)?;
+    Ok((loaded.description, loaded.base_dir, false))
+}
+
+/// `640x480` to `(640, 480)`.
+pub fn parse_size(size: &str) -> Result<(u32, u32)> {
+    size.split_once(['x', 'X'])
+        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)))
+        .ok_or_else(|| anyhow!("--size: expected WIDTHxHEIGHT such as 640x480, got `{size}`"))
+}
+
+fn parse_vec3(flag: &str, s: &str) -> Result<[f32; 3]> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let v: Vec<f32> = parts
+        .iter()
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| anyhow!("{flag}: expected three numbers as x,y,z, got `{s}`"))?;
+    v.try_into()
+        .map_err(|_| anyhow!("{flag}: expected three numbers as x,y,z, got `{s}`"))
+}
