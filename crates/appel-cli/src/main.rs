@@ -3,6 +3,7 @@
 
 mod bench_cmd;
 mod convert_cmd;
+mod inside_cmd;
 mod render_cmd;
 mod scene_args;
 mod scenes_cmd;
@@ -29,6 +30,8 @@ enum Command {
     Bench(bench_cmd::BenchArgs),
     /// Write a scene's or mesh's triangles as one binary PLY, in Appel's triangle order.
     Convert(convert_cmd::ConvertArgs),
+    /// Tell, for each point of a list, whether it lies inside a closed mesh.
+    Inside(inside_cmd::InsideArgs),
     /// List the built-in scenes, or print one as a scene file to edit.
     Scenes(scenes_cmd::ScenesArgs),
 }
@@ -40,6 +43,7 @@ fn main() -> ExitCode {
         Command::Scenes(args) => scenes_cmd::run(args),
         Command::Bench(args) => bench_cmd::run(args),
         Command::Convert(args) => convert_cmd::run(args),
+        Command::Inside(args) => inside_cmd::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -345,3 +345,33 @@ fn a_mesh_file_renders_framed_and_a_bad_one_is_rejected_with_its_line() {
         &["bad.obj:3:", "vertex index 7"],
     );
 }
+
+#[test]
+fn inside_classifies_points_of_a_closed_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    // The cube [-1, 1]^3 as an OBJ of quads.
+    let cube =
+        "v -1 -1 -1\nv -1 -1 1\nv -1 1 -1\nv -1 1 1\nv 1 -1 -1\nv 1 -1 1\nv 1 1 -1\nv 1 1 1\n\
+                f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n";
+    std::fs::write(dir.path().join("cube.obj"), cube).unwrap();
+    std::fs::write(
+        dir.path().join("p.csv"),
+        "0,0,0\n2,0,0\n0.5 -0.5 0.9\n0,0,-1.01\n",
+    )
+    .unwrap();
+    let out = appel(&["inside", "cube.obj", "p.csv"], dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "inside\noutside\ninside\noutside\n"
+    );
+    let out = appel(&["inside", "cube.obj", "p.csv", "--json"], dir.path());
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout).trim(),
+        "[true,false,true,false]"
+    );
+    std::fs::write(dir.path().join("bad.csv"), "0,0,0\n1,2\n").unwrap();
+    let out = appel(&["inside", "cube.obj", "bad.csv"], dir.path());
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("bad.csv:2:"), "{}", stderr(&out));
+}

@@ -100,3 +100,41 @@ fn winding_number_reference_is_right_on_the_icosphere() {
     assert!((winding_number(&mesh, Vec3::ZERO) - 1.0).abs() < 1e-9);
     assert!(winding_number(&mesh, Vec3::splat(2.0)).abs() < 1e-9);
 }
+
+#[test]
+fn real_manifold_mesh_agrees_with_the_winding_number() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/odedstein-meshes/bunny/bunny.obj"
+    );
+    if !std::path::Path::new(path).exists() {
+        eprintln!("skipped: {path} is absent (the shared data sits beside the repository)");
+        return;
+    }
+    let loaded = appel::io::load_mesh(std::path::Path::new(path)).unwrap();
+    let mut mesh = TriangleMesh::default();
+    for part in &loaded.parts {
+        appel::geometry::procedural::append(&mut mesh, &part.mesh);
+    }
+    let tester = InsideTester::new(&mesh);
+    let b = mesh.bounds();
+    let mut rng = Rng(3);
+    let points: Vec<Vec3> = (0..3000)
+        .map(|_| b.min + (b.max - b.min) * rng.point(-0.1, 1.1))
+        .collect();
+    let answers = tester.classify(&points);
+    let (mut checked, mut inside_count) = (0, 0);
+    for (p, inside) in points.iter().zip(answers) {
+        let w = winding_number(&mesh, *p);
+        // Points within rounding of the surface have w near 0.5: no reference answer there.
+        if (w - 0.5).abs() > 0.1 {
+            assert_eq!(inside, w > 0.5, "{p}: winding number {w}");
+            checked += 1;
+            inside_count += inside as usize;
+        }
+    }
+    assert!(
+        checked > 2900 && inside_count > 200,
+        "{checked} checked, {inside_count} inside"
+    );
+}

@@ -7,6 +7,7 @@ pub mod mesh_file;
 pub mod obj;
 pub mod ply;
 mod ply_write;
+pub mod points;
 
 pub use ply_write::write_ply;
 
