@@ -1,6 +1,9 @@
 use crate::scene_args::load_scene;
 use anyhow::{bail, Result};
-use appel::scene::ShapeKind;
+use appel::geometry::TriangleMesh;
+use appel::math::Vec3;
+use appel::scene::{SceneHit, ShapeKind};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -27,16 +30,46 @@ pub fn run(args: ConvertArgs) -> Result<()> {
         d.render.accel = "brute".into();
         Ok(())
     })?;
-    let meshes: Vec<_> = scene
-        .geometry
-        .shapes
-        .iter()
-        .enumerate()
-        .filter_map(|(id, s)| match s.kind {
-            ShapeKind::Mesh(m) => Some((id as u32, &scene.geometry.meshes[m as usize])),
-            _ => None,
+    // One mesh per `[[shape]]`, its triangles in the source file's order, so that a triangle's index
+    // in the output is its `[[shape]]`'s offset plus its `primid`.
+    let g = &scene.geometry;
+    let mut by_source: BTreeMap<u32, Vec<(u32, [Vec3; 3])>> = BTreeMap::new();
+    for (id, shape) in g.shapes.iter().enumerate() {
+        if let ShapeKind::Mesh(m) = shape.kind {
+            let mesh = &g.meshes[m as usize];
+            for t in 0..mesh.triangle_count() {
+                let hit = SceneHit {
+                    t: 0.0,
+                    shape: id as u32,
+                    prim: t as u32,
+                    u: 0.0,
+                    v: 0.0,
+                };
+                let (source, prim) = g.source_ids(&hit);
+                by_source
+                    .entry(source)
+                    .or_default()
+                    .push((prim, mesh.vertices(t)));
+            }
+        }
+    }
+    let owned: Vec<(u32, TriangleMesh)> = by_source
+        .into_iter()
+        .map(|(source, mut tris)| {
+            tris.sort_by_key(|(prim, _)| *prim);
+            let positions = tris.iter().flat_map(|(_, v)| *v).collect();
+            let indices = (0..tris.len() as u32)
+                .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+                .collect();
+            let mesh = TriangleMesh {
+                positions,
+                indices,
+                ..Default::default()
+            };
+            (source, mesh)
         })
         .collect();
+    let meshes: Vec<(u32, &TriangleMesh)> = owned.iter().map(|(s, m)| (*s, m)).collect();
     if meshes.is_empty() {
         bail!("{}: the scene has no triangles to convert", args.input);
     }

@@ -185,7 +185,11 @@ impl Ctx<'_> {
                     );
                 }
                 let material = self.material(&prim.material());
-                self.out.parts.push(MeshPart { mesh: tm, material });
+                self.out.parts.push(MeshPart {
+                    mesh: tm,
+                    material,
+                    file_triangles: None,
+                });
             }
         }
         for child in node.children() {

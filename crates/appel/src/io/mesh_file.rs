@@ -45,6 +45,10 @@ pub struct MeshPart {
     pub mesh: TriangleMesh,
     /// Index into [`LoadedMesh::materials`], or `None` for the scene's default.
     pub material: Option<u32>,
+    /// For each triangle of the part, its index among all the file's triangles in the file's order,
+    /// where a reader regrouped them (OBJ groups faces by material). `None`: the parts hold the
+    /// file's triangles in order, one part after the other.
+    pub file_triangles: Option<Vec<u32>>,
 }
 
 /// Everything read from one mesh file.

@@ -53,6 +53,8 @@ const NONE: u32 = u32::MAX;
 #[derive(Default)]
 struct PartBuilder {
     material: Option<u32>,
+    /// Index in the file's triangle order of each triangle of the part.
+    file_triangles: Vec<u32>,
     /// (position, uv, normal) indices of the file -> vertex of this part.
     map: HashMap<[u32; 3], u32>,
     mesh: TriangleMesh,
@@ -158,6 +160,7 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
     let mut face: Vec<[u32; 3]> = vec![];
     let mut corners: Vec<u32> = vec![];
     let mut tris: Vec<[usize; 3]> = vec![];
+    let mut triangles_so_far = 0u32;
     for item in text_lines(data, path) {
         let (line, text) = item?;
         let mut words = text.split_ascii_whitespace();
@@ -208,6 +211,10 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
                 part.mesh
                     .indices
                     .extend(tris.iter().map(|t| t.map(|k| corners[k])));
+                let n = tris.len() as u32;
+                part.file_triangles
+                    .extend(triangles_so_far..triangles_so_far + n);
+                triangles_so_far += n;
             }
             "usemtl" => {
                 let name = args.join(" ");
@@ -226,6 +233,7 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
             _ => {}
         }
     }
+    let single = parts.len() == 1;
     let parts = parts
         .into_iter()
         .map(|mut p| {
@@ -234,6 +242,7 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
             MeshPart {
                 mesh: p.mesh,
                 material: p.material,
+                file_triangles: (!single).then_some(p.file_triangles),
             }
         })
         .collect();

@@ -210,6 +210,7 @@ pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
         parts: vec![MeshPart {
             mesh,
             material: None,
+            file_triangles: None,
         }],
         materials: vec![],
     })

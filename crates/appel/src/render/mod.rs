@@ -145,11 +145,12 @@ pub fn render_with<I: Integrator>(
                         if s == 0 {
                             if let Some(hit) = hit {
                                 let si = scene.geometry.interaction(&ray, &hit);
+                                let (shape_id, prim_id) = scene.geometry.source_ids(&hit);
                                 aov = PixelAov {
                                     depth: hit.t,
                                     normal: si.ns,
-                                    shape_id: hit.shape,
-                                    prim_id: hit.prim,
+                                    shape_id,
+                                    prim_id,
                                 };
                             }
                         }

@@ -7,11 +7,26 @@ use crate::geometry::{
 };
 use crate::math::{Aabb, Ray, Vec3};
 
-/// One `[[shape]]` of the scene file.
+/// One surface: a `[[shape]]` of the scene file, or one part of a mesh file's `[[shape]]`.
 #[derive(Clone, Debug)]
 pub struct Shape {
     pub kind: ShapeKind,
     pub material: u32,
+    /// Where the shape comes from, for the `shapeid` and `primid` AOVs.
+    pub source: ShapeSource,
+}
+
+/// The `[[shape]]` a surface comes from, and how its primitives number in the source file: a mesh
+/// file split into parts (one per material) still reports the `[[shape]]`'s index and the triangle's
+/// index in the file's order.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ShapeSource {
+    /// Index of the `[[shape]]` in the scene file's order.
+    pub shape: u32,
+    /// The file index of primitive `i` is `first_prim + i`...
+    pub first_prim: u32,
+    /// ...or `prim_table[i]` where the parts regrouped the file's triangles.
+    pub prim_table: Option<Vec<u32>>,
 }
 
 #[derive(Clone, Debug)]
@@ -51,7 +66,7 @@ pub struct Geometry {
 pub struct SceneHit {
     pub t: f32,
     pub shape: u32,
-    /// Index of the primitive inside its shape (the triangle index in the mesh file's order).
+    /// Index of the primitive inside its shape; see [`Geometry::source_ids`] for the file's numbering.
     pub prim: u32,
     pub u: f32,
     pub v: f32,
@@ -86,8 +101,26 @@ impl Geometry {
                     .extend((0..n).map(|index| PrimRef { shape: id, index }));
             }
         }
-        self.shapes.push(Shape { kind, material });
+        self.shapes.push(Shape {
+            kind,
+            material,
+            source: ShapeSource {
+                shape: id,
+                ..Default::default()
+            },
+        });
         id
+    }
+
+    /// The `shapeid` and `primid` a hit reports: its `[[shape]]` and its primitive's index in the
+    /// source file.
+    pub fn source_ids(&self, hit: &SceneHit) -> (u32, u32) {
+        let src = &self.shapes[hit.shape as usize].source;
+        let prim = match &src.prim_table {
+            Some(table) => table[hit.prim as usize],
+            None => src.first_prim + hit.prim,
+        };
+        (src.shape, prim)
     }
 
     pub fn push_mesh(&mut self, mesh: TriangleMesh, material: u32) -> u32 {

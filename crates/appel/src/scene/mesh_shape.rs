@@ -34,9 +34,15 @@ pub(super) fn add_mesh_file(
     if material.is_none() {
         materials.extend(loaded.materials.iter().map(material_from_file));
     }
+    let mut first_prim = 0;
     for part in loaded.parts {
         let id = material.unwrap_or_else(|| part.material.map_or(0, |m| first + m));
-        geometry.push_mesh(part.mesh, id);
+        let count = part.mesh.triangle_count() as u32;
+        let shape = geometry.push_mesh(part.mesh, id);
+        let source = &mut geometry.shapes[shape as usize].source;
+        source.first_prim = first_prim;
+        source.prim_table = part.file_triangles;
+        first_prim += count;
     }
     Ok(())
 }

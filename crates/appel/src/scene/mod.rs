@@ -15,7 +15,7 @@ pub mod validate;
 pub use camera::Camera;
 pub use description::Description;
 pub use frame::{frame_model, model_description};
-pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind};
+pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind, ShapeSource};
 pub use light::Light;
 pub use material::{Checker, Material};
 
@@ -166,7 +166,8 @@ impl Scene {
         let mut materials = vec![Material::new(&Default::default())];
         materials.extend(d.materials.values().map(Material::new));
         let mut geometry = Geometry::new(triangle_test);
-        for s in &d.shapes {
+        for (index, s) in d.shapes.iter().enumerate() {
+            let first_new_shape = geometry.shapes.len();
             let material = s
                 .material
                 .as_ref()
@@ -232,6 +233,10 @@ impl Scene {
                     )?;
                 }
                 other => return Err(Error::Invalid(format!("unknown shape type `{other}`"))),
+            }
+            // A mesh file may have become several surfaces: all report this `[[shape]]`.
+            for shape in &mut geometry.shapes[first_new_shape..] {
+                shape.source.shape = index as u32;
             }
         }
         let load = load_start.elapsed();
