@@ -77,7 +77,7 @@ fn multi_material_obj_reports_scene_shape_and_file_triangle() {
             let square = (p.x.floor() as i32).clamp(0, 2) as u32;
             let (fx, fy) = (p.x - square as f32, p.y);
             // Triangle (b, b+1, b+2) is below the diagonal fy = fx, (b, b+2, b+3) above it.
-            if (fy - fx).abs() < 0.05 || fx < 0.02 || fx > 0.98 {
+            if (fy - fx).abs() < 0.05 || !(0.02..=0.98).contains(&fx) {
                 continue;
             }
             let expected = 2 * square + if fy < fx { 0 } else { 1 };
