@@ -1,10 +1,14 @@
-//! kd-tree with binned SAH splits (the cost model of MacDonald & Booth 1990 with the empty-space bonus
+//! kd-tree with SAH splits (the cost model of MacDonald & Booth 1990 with the empty-space bonus
 //! and termination rules of pbrt-v3's `KdTreeAccel`, Pharr et al. 2016, section 4.4).
 //!
-//! Split planes are chosen by binning, not by the exact sorted-event sweep of Wald & Havran 2006:
-//! 32 bins per axis, the counts of primitive bounds (clipped to the node) starting and ending in each
-//! bin give the primitives on either side of every bin boundary in one prefix sum. Build memory is the
-//! primitive bounds plus one index list per node on the current recursion path.
+//! Split candidates are the primitives' bounds clipped to the node (Wald & Havran 2006 clip the
+//! triangle itself, "perfect splits"; the builder sees only bounds, so it clips those): nodes of up
+//! to `EXACT_MAX` primitives sweep all of them exactly, larger ones bin them into `BINS` bins over
+//! the clipped bounds' extent. A primitive whose bounds straddle the chosen plane goes only to the
+//! children it really overlaps (`Primitives::clip_overlaps`), so a large triangle whose bounds
+//! cover a dense cluster is not copied into the cluster's leaves. Traversal keeps a small per-ray
+//! mailbox, so a primitive copied into several leaves along a ray is tested once.
+//! Build memory is the primitive bounds plus one index list per node on the current recursion path.
 //! Nodes are 8 bytes (pbrt's `KdAccelNode`): the below child follows its parent in memory.
 
 use super::bvh::{far_scale, RayBox};
