@@ -97,6 +97,7 @@ const EXACT_MAX: usize = 1024;
 /// Smallest empty slab, as a fraction of the node's extent, that earns the empty-space bonus.
 const EMPTY_MIN: f32 = 0.125;
 const STACK: usize = 64;
+const PAR_MIN: usize = 1 << 15;
 /// Direct-mapped per-ray mailbox, as in the grid: a primitive copied into several leaves along
 /// the ray is tested once. A collision only costs a repeated test, never a skipped one.
 const MAILBOX: usize = 64;
@@ -118,6 +119,8 @@ struct Builder<'a, P> {
     margin: f32,
     nodes: Vec<KdNode>,
     leaf_prims: Vec<u32>,
+    /// Nodes of at least this many primitives build their children in parallel.
+    par_min: usize,
     root_area: f64,
     sah: f64,
     depth: usize,
@@ -130,6 +133,11 @@ impl KdTree {
     }
 
     pub fn build_with<P: Primitives>(prims: &P, opts: KdOptions) -> Self {
+        Self::build_par(prims, opts, PAR_MIN)
+    }
+
+    /// `par_min`: nodes of at least this many primitives build their children in parallel.
+    fn build_par<P: Primitives>(prims: &P, opts: KdOptions, par_min: usize) -> Self {
         let n = prims.count();
         let bounds: Vec<Aabb> = (0..n).into_par_iter().map(|i| prims.bounds(i)).collect();
         let root = bounds.iter().fold(Aabb::EMPTY, |a, &b| a.union(b));
@@ -164,6 +172,7 @@ impl KdTree {
             sah: 0.0,
             depth: 0,
             leaves: 0,
+            par_min,
         };
         b.build(root, ids, max_depth, 0, 0);
         tree.stats = AccelStats {
@@ -337,10 +346,54 @@ impl<P: Primitives> Builder<'_, P> {
         let me = self.nodes.len();
         self.nodes.push(KdNode::interior(axis, split, 0));
         self.sah += self.rel_area(node) * o.traversal_cost as f64;
+        if n >= self.par_min {
+            // Large nodes build their children on two threads into separate arrays, appended in
+            // the sequential order: the tree is the same as a sequential build's (tested).
+            let (mut lb, mut ab) = (self.child(), self.child());
+            rayon::join(
+                || lb.build(bn, below, depth_left - 1, bad, depth + 1),
+                || ab.build(an, above, depth_left - 1, bad, depth + 1),
+            );
+            let above_at = self.append(lb);
+            self.nodes[me] = KdNode::interior(axis, split, above_at);
+            self.append(ab);
+            return;
+        }
         self.build(bn, below, depth_left - 1, bad, depth + 1);
         let above_at = self.nodes.len() as u32;
         self.nodes[me] = KdNode::interior(axis, split, above_at);
         self.build(an, above, depth_left - 1, bad, depth + 1);
+    }
+
+    /// An empty builder for a subtree built in parallel.
+    fn child(&self) -> Self {
+        Self {
+            nodes: Vec::new(),
+            leaf_prims: Vec::new(),
+            sah: 0.0,
+            depth: 0,
+            leaves: 0,
+            ..*self
+        }
+    }
+
+    /// Appends a subtree built by [`Self::child`], rebasing its child and leaf indices; returns
+    /// the index of the node after it.
+    fn append(&mut self, c: Self) -> u32 {
+        let base = self.nodes.len() as u32;
+        let first = self.leaf_prims.len() as u32;
+        self.nodes.extend(c.nodes.iter().map(|n| {
+            if n.is_leaf() {
+                KdNode::leaf(n.data + first, n.high())
+            } else {
+                KdNode::interior(n.axis(), n.split(), n.high() + base)
+            }
+        }));
+        self.leaf_prims.extend_from_slice(&c.leaf_prims);
+        self.sah += c.sah;
+        self.depth = self.depth.max(c.depth);
+        self.leaves += c.leaves;
+        self.nodes.len() as u32
     }
 
     /// Splits `ids` between the children `bn` (below `split`) and `an`. A primitive whose bounds
@@ -698,5 +751,18 @@ mod tests {
             "{} for {n}",
             kd.leaf_prims.len()
         );
+    }
+
+    #[test]
+    fn parallel_build_is_the_sequential_build() {
+        let target = crate::bench::bench_scene("teapot-in-stadium", 20000, 8, 8).unwrap();
+        let g = &target.geometry;
+        let par = KdTree::build_par(g, KdOptions::default(), 2000);
+        let seq = KdTree::build_par(g, KdOptions::default(), usize::MAX);
+        assert!(par.nodes.len() > 1000);
+        assert_eq!(par.nodes, seq.nodes);
+        assert_eq!(par.leaf_prims, seq.leaf_prims);
+        let (p, s) = (par.stats(), seq.stats());
+        assert_eq!((p.nodes, p.leaves, p.depth), (s.nodes, s.leaves, s.depth));
     }
 }
