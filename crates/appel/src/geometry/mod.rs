@@ -11,6 +11,7 @@ pub mod poly;
 pub mod procedural;
 mod sphere;
 mod torus;
+mod transform;
 pub mod triangle;
 
 pub use implicit::Implicit;
@@ -19,6 +20,7 @@ pub use overlap::triangle_box_overlap;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use torus::Torus;
+pub use transform::ObjectTransform;
 pub use triangle::TriangleTest;
 
 use crate::math::{Vec2, Vec3};

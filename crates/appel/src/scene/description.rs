@@ -334,7 +334,8 @@ impl Description {
             sh.point = sh.point.map(sc);
             sh.size = sh.size.map(|z| z.map(|x| x * s));
             sh.vertices = sh.vertices.map(|v| v.map(sc));
-            if sh.file.is_some() {
+            let placed_implicit = sh.f.is_some() && sh.transform.is_some();
+            if sh.file.is_some() || placed_implicit {
                 // s * (T R S) = T(s t) R S(s S): scale the translation and the scale.
                 let t = sh.transform.get_or_insert_with(Default::default);
                 t.translate = t.translate.map(sc);
@@ -343,12 +344,14 @@ impl Description {
             }
             sh.major_radius = sh.major_radius.map(|r| r * s);
             sh.minor_radius = sh.minor_radius.map(|r| r * s);
-            sh.bounds = sh.bounds.map(|b| b.map(sc));
-            // f(x/s, y/s, z/s) = 0 is the surface scaled by s.
-            sh.f = sh
-                .f
-                .as_ref()
-                .map(|f| crate::geometry::implicit::parse::substitute_scaled(f, 1.0 / s as f64));
+            if !placed_implicit {
+                // An implicit without a transform lives in world coordinates: f(x/s, y/s, z/s) = 0 is
+                // the surface scaled by s. (With a transform, scaling the transform suffices.)
+                sh.bounds = sh.bounds.map(|b| b.map(sc));
+                sh.f = sh.f.as_ref().map(|f| {
+                    crate::geometry::implicit::parse::substitute_scaled(f, 1.0 / s as f64)
+                });
+            }
         }
         for l in &mut d.lights {
             if let Some(p) = &mut l.position {

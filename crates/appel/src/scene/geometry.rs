@@ -2,8 +2,8 @@
 
 use crate::accel::{Hit, Primitives};
 use crate::geometry::{
-    triangle_box_overlap, Implicit, Plane, PrimHit, Sphere, SurfaceInteraction, Torus,
-    TriangleMesh, TriangleTest,
+    triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SurfaceInteraction,
+    Torus, TriangleMesh, TriangleTest,
 };
 use crate::math::{Aabb, Ray, Vec3};
 
@@ -54,6 +54,8 @@ pub struct Geometry {
     pub shapes: Vec<Shape>,
     pub meshes: Vec<TriangleMesh>,
     pub implicits: Vec<Implicit>,
+    /// Where each implicit surface sits in the world, if not at its formula's own coordinates.
+    pub implicit_transforms: Vec<Option<ObjectTransform>>,
     /// Bounded primitives, in the order the acceleration structure indexes them.
     pub prims: Vec<PrimRef>,
     /// Shapes without finite bounds (infinite planes), tested separately for every ray.
@@ -128,8 +130,14 @@ impl Geometry {
         self.push(ShapeKind::Mesh(self.meshes.len() as u32 - 1), material)
     }
 
-    pub fn push_implicit(&mut self, implicit: Implicit, material: u32) -> u32 {
+    pub fn push_implicit(
+        &mut self,
+        implicit: Implicit,
+        transform: Option<ObjectTransform>,
+        material: u32,
+    ) -> u32 {
         self.implicits.push(implicit);
+        self.implicit_transforms.push(transform);
         self.push(
             ShapeKind::Implicit(self.implicits.len() as u32 - 1),
             material,
@@ -153,7 +161,13 @@ impl Geometry {
             ShapeKind::Mesh(m) => {
                 self.meshes[*m as usize].intersect(index as usize, ray, t_max, self.triangle_test)
             }
-            ShapeKind::Implicit(i) => self.implicits[*i as usize].intersect(ray, t_max),
+            ShapeKind::Implicit(i) => {
+                let f = &self.implicits[*i as usize];
+                match &self.implicit_transforms[*i as usize] {
+                    Some(x) => f.intersect(&x.ray_to_object(ray), t_max),
+                    None => f.intersect(ray, t_max),
+                }
+            }
             ShapeKind::Torus(t) => t.intersect(ray, t_max),
         }
     }
@@ -205,7 +219,13 @@ impl Geometry {
             ShapeKind::Sphere(s) => s.interaction(ray, &ph),
             ShapeKind::Plane(p) => p.interaction(ray, &ph),
             ShapeKind::Mesh(m) => self.meshes[*m as usize].interaction(hit.prim as usize, &ph),
-            ShapeKind::Implicit(i) => self.implicits[*i as usize].interaction(ray, &ph),
+            ShapeKind::Implicit(i) => {
+                let f = &self.implicits[*i as usize];
+                match &self.implicit_transforms[*i as usize] {
+                    Some(x) => x.interaction_to_world(&f.interaction(&x.ray_to_object(ray), &ph)),
+                    None => f.interaction(ray, &ph),
+                }
+            }
             ShapeKind::Torus(t) => t.interaction(ray, &ph),
         }
     }
@@ -222,7 +242,13 @@ impl Primitives for Geometry {
             ShapeKind::Sphere(s) => s.bounds(),
             ShapeKind::Plane(p) => p.bounds().unwrap_or(Aabb::EMPTY),
             ShapeKind::Mesh(m) => self.meshes[*m as usize].triangle_bounds(r.index as usize),
-            ShapeKind::Implicit(i) => self.implicits[*i as usize].bounds,
+            ShapeKind::Implicit(i) => {
+                let b = self.implicits[*i as usize].bounds;
+                match &self.implicit_transforms[*i as usize] {
+                    Some(x) => x.bounds_to_world(b),
+                    None => b,
+                }
+            }
             ShapeKind::Torus(t) => t.bounds(),
         }
     }

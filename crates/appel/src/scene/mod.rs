@@ -21,7 +21,9 @@ pub use material::{Checker, Material};
 
 use crate::accel::{Accel, AccelKind, AccelStats, TraversalStats};
 use crate::error::{Error, Location, Result};
-use crate::geometry::{Implicit, Plane, Sphere, Torus, TriangleMesh, TriangleTest};
+use crate::geometry::{
+    Implicit, ObjectTransform, Plane, Sphere, Torus, TriangleMesh, TriangleTest,
+};
 use crate::math::{Ray, Vec2, Vec3};
 use parse::{parse_description, toml_span, PathSeg, Syntax};
 use std::path::{Path, PathBuf};
@@ -206,7 +208,15 @@ impl Scene {
                     let bounds = crate::math::Aabb::new(b[0].into(), b[1].into());
                     let implicit = Implicit::new(f, bounds)
                         .map_err(|e| Error::Invalid(format!("in the formula `{f}`, {e}")))?;
-                    geometry.push_implicit(implicit, material);
+                    let transform = match &s.transform {
+                        Some(t) => Some(ObjectTransform::new(t.matrix()).ok_or_else(|| {
+                            Error::Invalid(
+                                "the implicit surface's transform is not invertible".into(),
+                            )
+                        })?),
+                        None => None,
+                    };
+                    geometry.push_implicit(implicit, transform, material);
                 }
                 "torus" => {
                     let (Some(c), Some(big), Some(small)) =

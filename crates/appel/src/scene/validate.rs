@@ -284,7 +284,7 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
     let (required, optional): (&[&str], &[&str]) = match s.kind.as_str() {
         "sphere" => (&["center", "radius"], &[]),
         "plane" => (&["point", "normal"], &["size"]),
-        "implicit" => (&["f", "bounds"], &[]),
+        "implicit" => (&["f", "bounds"], &["transform"]),
         "torus" => (&["center", "major_radius", "minor_radius"], &["axis"]),
         "mesh" => (&["file"], &["transform"]),
         _ => (&["vertices"], &[]),
