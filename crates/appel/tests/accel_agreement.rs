@@ -167,74 +167,9 @@ proptest! {
     }
 }
 
-/// A closed mesh: an icosahedron subdivided `levels` times and pushed onto the unit sphere.
-fn icosphere(levels: u32) -> TriangleMesh {
-    let g = (1.0 + 5f32.sqrt()) / 2.0;
-    let mut pos: Vec<Vec3> = [
-        (-1.0, g, 0.0),
-        (1.0, g, 0.0),
-        (-1.0, -g, 0.0),
-        (1.0, -g, 0.0),
-        (0.0, -1.0, g),
-        (0.0, 1.0, g),
-        (0.0, -1.0, -g),
-        (0.0, 1.0, -g),
-        (g, 0.0, -1.0),
-        (g, 0.0, 1.0),
-        (-g, 0.0, -1.0),
-        (-g, 0.0, 1.0),
-    ]
-    .iter()
-    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
-    .collect();
-    let mut idx: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..levels {
-        let mut mid = std::collections::HashMap::new();
-        let mut next = Vec::with_capacity(idx.len() * 4);
-        for [a, b, c] in idx {
-            let mut m = |i: u32, j: u32| {
-                *mid.entry((i.min(j), i.max(j))).or_insert_with(|| {
-                    pos.push(((pos[i as usize] + pos[j as usize]) * 0.5).normalize());
-                    pos.len() as u32 - 1
-                })
-            };
-            let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
-            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        idx = next;
-    }
-    TriangleMesh {
-        positions: pos,
-        indices: idx,
-        normals: None,
-        uvs: None,
-    }
-}
-
 #[test]
 fn closed_mesh_agrees_and_no_ray_from_inside_escapes() {
-    let m = icosphere(4);
+    let m = appel::geometry::procedural::icosphere(4);
     assert_eq!(m.triangle_count(), 20 * 256);
     let mut rays = Vec::new();
     let mut s = 0x1234_5678u32;
