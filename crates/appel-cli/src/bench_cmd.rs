@@ -6,11 +6,12 @@ use appel::scene::Description;
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
-    /// A benchmark scene (uniform, teapot-in-stadium), a built-in scene or a scene file.
+    /// A generated benchmark scene (uniform, teapot-in-stadium), a built-in scene, a scene file or a
+    /// mesh file (framed as `appel render` frames it).
     #[arg(default_value = "teapot-in-stadium")]
     target: String,
     /// Comma-separated acceleration structures to measure.
-    #[arg(long, default_value = "brute,bvh")]
+    #[arg(long, default_value = "brute,grid,kdtree,bvh")]
     accel: String,
     /// Threads for the multi-threaded figures (default: all cores).
     #[arg(long)]
