@@ -67,15 +67,15 @@ pub fn run(args: BenchArgs) -> Result<()> {
             h
         );
         println!(
-            "{:<8} {:>10} {:>12} {:>6} {:>22} {:>22} {:>9} {:>9}",
+            "{:<8} {:>10} {:>12} {:>6} {:>22} {:>22} {:>15} {:>15}",
             "accel",
             "build ms",
             "bytes",
             "depth",
             "camera Mrays/s 1t/Nt",
             "incoherent 1t/Nt",
-            "nodes/ray",
-            "tests/ray"
+            "nodes/ray cam/inc",
+            "tests/ray cam/inc"
         );
     }
     for kind in kinds {
@@ -84,7 +84,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             println!("{}", serde_json::to_string(&r)?);
         } else {
             println!(
-                "{:<8} {:>10.1} {:>12} {:>6} {:>10} / {:<9} {:>10} / {:<9} {:>9.1} {:>9.1}",
+                "{:<8} {:>10.1} {:>12} {:>6} {:>10} / {:<9} {:>10} / {:<9} {:>7.1}/{:<7.1} {:>7.1}/{:<7.1}",
                 r.accel,
                 r.build_ms,
                 r.bytes,
@@ -94,7 +94,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 rate(r.incoherent_mrays_1t),
                 rate(r.incoherent_mrays),
                 r.nodes_per_ray,
-                r.tests_per_ray
+                r.incoherent_nodes_per_ray,
+                r.tests_per_ray,
+                r.incoherent_tests_per_ray
             );
         }
     }

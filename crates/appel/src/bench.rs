@@ -94,6 +94,9 @@ pub struct BenchResult {
     /// Mean nodes (or cells) visited and primitive tests per camera ray.
     pub nodes_per_ray: f64,
     pub tests_per_ray: f64,
+    /// The same means for the incoherent rays.
+    pub incoherent_nodes_per_ray: f64,
+    pub incoherent_tests_per_ray: f64,
 }
 
 pub struct BenchOptions {
@@ -231,10 +234,16 @@ pub fn bench_accel(
     } else {
         o.trace_runs
     };
-    let mut traversal = TraversalStats::default();
-    for r in &primary {
-        accel.intersect(g, r, f32::INFINITY, &mut traversal);
-    }
+    let count = |rays: &[Ray]| {
+        let mut t = TraversalStats::default();
+        for r in rays {
+            accel.intersect(g, r, f32::INFINITY, &mut t);
+        }
+        let per_ray = |x: u64| x as f64 / t.rays.max(1) as f64;
+        (per_ray(t.nodes_visited), per_ray(t.prim_tests))
+    };
+    let (nodes_per_ray, tests_per_ray) = count(&primary);
+    let (incoherent_nodes_per_ray, incoherent_tests_per_ray) = count(&incoherent);
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -243,7 +252,6 @@ pub fn bench_accel(
         .num_threads(o.threads)
         .build()
         .expect("thread pool");
-    let per_ray = |x: u64| x as f64 / traversal.rays.max(1) as f64;
     BenchResult {
         accel: kind.name().to_string(),
         scene: target.name.clone(),
@@ -259,7 +267,9 @@ pub fn bench_accel(
         threads: all.current_num_threads(),
         rays_primary: primary.len(),
         rays_incoherent: incoherent.len(),
-        nodes_per_ray: per_ray(traversal.nodes_visited),
-        tests_per_ray: per_ray(traversal.prim_tests),
+        nodes_per_ray,
+        tests_per_ray,
+        incoherent_nodes_per_ray,
+        incoherent_tests_per_ray,
     }
 }
