@@ -375,3 +375,49 @@ fn inside_classifies_points_of_a_closed_mesh() {
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr(&out).contains("bad.csv:2:"), "{}", stderr(&out));
 }
+
+#[test]
+fn bench_json_reports_every_structure_with_the_documented_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = appel(
+        &[
+            "bench",
+            "uniform",
+            "--triangles",
+            "2000",
+            "--size",
+            "32x24",
+            "--accel",
+            "brute,grid,kdtree,bvh",
+            "--builds",
+            "1",
+            "--runs",
+            "1",
+            "--json",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(rows.len(), 4, "{text}");
+    for (row, name) in rows.iter().zip(["brute", "grid", "kdtree", "bvh"]) {
+        for key in [
+            "\"accel\"",
+            "\"triangles\":2000",
+            "\"build_ms\"",
+            "\"bytes\"",
+            "\"primary_mrays\"",
+            "\"incoherent_mrays\"",
+            "\"threads\"",
+        ] {
+            assert!(row.contains(key), "{name}: no {key} in {row}");
+        }
+        assert!(row.contains(&format!("\"accel\":\"{name}\"")), "{row}");
+    }
+    // Brute force tests every primitive for every ray; the others far fewer.
+    assert!(rows[0].contains("\"tests_per_ray\":2000.0"), "{}", rows[0]);
+    let bad = appel(&["bench", "uniform", "--accel", "octree"], dir.path());
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(stderr(&bad).contains("unknown structure `octree`"));
+}
