@@ -445,7 +445,11 @@ fn bench_embree_row_measures_embree_on_the_same_rays() {
         dir.path(),
     );
     if !out.status.success() && std::env::var_os("APPEL_REQUIRE_EMBREE").is_none() {
-        assert!(stderr(&out).contains("cannot load Embree 3"), "{}", stderr(&out));
+        assert!(
+            stderr(&out).contains("cannot load Embree 3"),
+            "{}",
+            stderr(&out)
+        );
         eprintln!("skipped: {}", stderr(&out));
         return;
     }
@@ -460,12 +464,21 @@ fn bench_embree_row_measures_embree_on_the_same_rays() {
     assert_eq!(embree["accel"], "embree");
     assert_eq!(embree["triangles"], bvh["triangles"]);
     assert_eq!(embree["rays_primary"], 64 * 48);
-    for key in ["primary_mrays", "incoherent_mrays", "shadow_mrays", "packet8_mrays"] {
+    for key in [
+        "primary_mrays",
+        "incoherent_mrays",
+        "shadow_mrays",
+        "packet8_mrays",
+    ] {
         assert!(embree[key].as_f64().unwrap() > 0.0, "{key}: {embree}");
     }
     assert!(embree["agreement"].as_f64().unwrap() > 0.999, "{embree}");
     assert!(embree["bytes"].as_u64().unwrap() > 5000 * 12, "{embree}");
     let bad = appel(&["bench", "uniform", "--threads", "0"], dir.path());
     assert_eq!(bad.status.code(), Some(1));
-    assert!(stderr(&bad).contains("--threads: expected 1 to"), "{}", stderr(&bad));
+    assert!(
+        stderr(&bad).contains("--threads: expected 1 to"),
+        "{}",
+        stderr(&bad)
+    );
 }
