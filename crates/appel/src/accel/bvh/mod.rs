@@ -2,6 +2,7 @@
 //! front-to-back stack traversal. See `docs/accel.md`.
 
 mod build;
+mod build_prim;
 mod node;
 mod traverse;
 
@@ -38,14 +39,10 @@ impl Bvh {
         );
         let mut refs: Vec<build::BuildPrim> = (0..n)
             .into_par_iter()
-            .map(|i| build::BuildPrim {
-                bounds: prims.bounds(i),
-                centroid: prims.centroid(i),
-                id: i as u32,
-            })
+            .map(|i| build::BuildPrim::new(prims.bounds(i), prims.centroid(i), i as u32))
             .collect();
         let nodes = build::build(&build::Ctx { opts }, &mut refs);
-        let indices: Vec<u32> = refs.par_iter().map(|r| r.id).collect();
+        let indices: Vec<u32> = refs.par_iter().map(|r| r.id()).collect();
         drop(refs);
         let mut bvh = Self {
             nodes,

@@ -1,0 +1,77 @@
+//! What the BVH builder moves around: a primitive's box and centroid in SIMD registers.
+//!
+//! The build spends its time taking unions of boxes (binning) and classifying centroids
+//! (partitioning), once per primitive per tree level. `glam::Vec4` keeps each corner in one SSE
+//! register, so a union is one `minps` and one `maxps`; with `Aabb`'s scalar, NaN-aware `f32::min`
+//! the same union was about ten times the instructions (callgrind, 10^5 triangles).
+//! Primitive bounds are finite: the loaders and the scene validator reject NaN and infinite
+//! coordinates, and unbounded shapes never reach a structure.
+
+use crate::math::{Aabb, Vec3};
+use glam::Vec4;
+
+/// A box whose `w` lanes carry no geometry.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Box4 {
+    pub lo: Vec4,
+    pub hi: Vec4,
+}
+
+impl Box4 {
+    pub const EMPTY: Box4 = Box4 {
+        lo: Vec4::splat(f32::INFINITY),
+        hi: Vec4::splat(f32::NEG_INFINITY),
+    };
+
+    #[inline(always)]
+    pub fn union(self, o: Box4) -> Box4 {
+        Box4 {
+            lo: self.lo.min(o.lo),
+            hi: self.hi.max(o.hi),
+        }
+    }
+
+    #[inline(always)]
+    pub fn include(self, p: Vec4) -> Box4 {
+        Box4 {
+            lo: self.lo.min(p),
+            hi: self.hi.max(p),
+        }
+    }
+
+    /// Surface area; 0 for an empty box.
+    #[inline(always)]
+    pub fn area(self) -> f32 {
+        let d = (self.hi - self.lo).max(Vec4::ZERO);
+        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+    }
+
+    pub fn to_aabb(self) -> Aabb {
+        Aabb::new(self.lo.truncate(), self.hi.truncate())
+    }
+}
+
+/// A primitive as the builder sees it (48 bytes): its bounds, its centroid, and its id in the `w`
+/// lane of the lower corner (as bits, never used as a number).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BuildPrim {
+    pub bounds: Box4,
+    pub centroid: Vec4,
+}
+
+impl BuildPrim {
+    pub fn new(bounds: Aabb, centroid: Vec3, id: u32) -> Self {
+        Self {
+            bounds: Box4 {
+                lo: bounds.min.extend(f32::from_bits(id)),
+                hi: bounds.max.extend(0.0),
+            },
+            centroid: centroid.extend(0.0),
+        }
+    }
+
+    #[inline]
+    pub fn id(&self) -> u32 {
+        self.bounds.lo.w.to_bits()
+    }
+}
