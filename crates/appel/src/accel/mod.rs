@@ -19,15 +19,13 @@ pub use mesh_prims::MeshPrimitives;
 pub use stats::{AccelStats, TraversalStats};
 
 use crate::geometry::PrimHit;
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{Aabb, Ray};
 
-/// What an acceleration structure is built over.
+/// What an acceleration structure is built over. Builders see only bounds; where they need a
+/// centroid they take the centre of the bounds (as Embree does).
 pub trait Primitives: Sync {
     fn count(&self) -> usize;
     fn bounds(&self, i: usize) -> Aabb;
-    fn centroid(&self, i: usize) -> Vec3 {
-        self.bounds(i).center()
-    }
     /// Closest hit of primitive `i` with `t` in `(0, t_max)`.
     fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit>;
     /// Whether primitive `i` may overlap the box `cell` (which overlaps its bounds). Structures that
@@ -156,6 +154,7 @@ impl Accel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Vec3;
 
     #[test]
     fn names_round_trip_and_bvh_is_the_default() {

@@ -5,7 +5,7 @@ use crate::geometry::{
     triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SurfaceInteraction,
     Torus, TriangleMesh, TriangleTest,
 };
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{Aabb, Ray};
 
 /// One surface: a `[[shape]]` of the scene file, or one part of a mesh file's `[[shape]]`.
 #[derive(Clone, Debug)]
@@ -251,10 +251,6 @@ impl Primitives for Geometry {
             }
             ShapeKind::Torus(t) => t.bounds(),
         }
-    }
-
-    fn centroid(&self, i: usize) -> Vec3 {
-        Primitives::bounds(self, i).center()
     }
 
     #[inline]

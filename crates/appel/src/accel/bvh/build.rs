@@ -2,7 +2,7 @@
 //!
 //! Binned SAH after Wald 2007 ("On fast construction of SAH-based bounding volume hierarchies"):
 //! centroids are binned along all three axes in one pass and every bin boundary is a candidate plane.
-//! Build memory is flat: one array of (bounds, centroid, id) records that the build partitions in
+//! Build memory is flat: one array of 32-byte (bounds, id) records that the build partitions in
 //! place - moving the records rather than indices into them keeps every pass sequential in memory -
 //! so a leaf ends up a contiguous range of it. Large ranges are built in parallel
 //! (`rayon::join`) into separate node arrays, each copied once into the final depth-first array.
@@ -231,7 +231,7 @@ fn range_bounds(indices: &[BuildPrim]) -> RangeBounds {
 fn scan_bounds(indices: &[BuildPrim]) -> (Box4, Box4) {
     let scan = |idx: &[BuildPrim]| {
         idx.iter().fold((Box4::EMPTY, Box4::EMPTY), |(b, c), p| {
-            (b.union(p.bounds), c.include(p.centroid))
+            (b.union(p.bounds), c.include(p.centroid()))
         })
     };
     if indices.len() > PARALLEL_SCAN {
@@ -281,7 +281,7 @@ fn decide(ctx: &Ctx, idx: &mut [BuildPrim], rb: RangeBounds, depth: usize) -> De
                 return Decision::Leaf;
             }
             let mid_plane = 0.5 * (cb.min[axis] + cb.max[axis]);
-            let (mid, _) = partition(idx, |p| p.centroid[axis] < mid_plane);
+            let (mid, _) = partition(idx, |p| p.centroid()[axis] < mid_plane);
             if mid == 0 || mid == n {
                 median(idx, axis)
             } else {
@@ -294,7 +294,9 @@ fn decide(ctx: &Ctx, idx: &mut [BuildPrim], rb: RangeBounds, depth: usize) -> De
 
 fn median(idx: &mut [BuildPrim], axis: usize) -> Decision {
     let mid = idx.len() / 2;
-    idx.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+    idx.select_nth_unstable_by(mid, |a, b| {
+        a.centroid()[axis].total_cmp(&b.centroid()[axis])
+    });
     split_at(idx, mid, axis)
 }
 
@@ -318,11 +320,11 @@ fn partition(idx: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> (usize
     let (mut cl, mut cr) = (Box4::EMPTY, Box4::EMPTY);
     loop {
         while i < j && left(&idx[i]) {
-            cl = cl.include(idx[i].centroid);
+            cl = cl.include(idx[i].centroid());
             i += 1;
         }
         while i < j && !left(&idx[j - 1]) {
-            cr = cr.include(idx[j - 1].centroid);
+            cr = cr.include(idx[j - 1].centroid());
             j -= 1;
         }
         if i == j {
@@ -330,8 +332,8 @@ fn partition(idx: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> (usize
         }
         // idx[i] belongs right and idx[j - 1] left.
         idx.swap(i, j - 1);
-        cl = cl.include(idx[i].centroid);
-        cr = cr.include(idx[j - 1].centroid);
+        cl = cl.include(idx[i].centroid());
+        cr = cr.include(idx[j - 1].centroid());
         i += 1;
         j -= 1;
     }
@@ -426,7 +428,7 @@ fn sah_bins<const B: usize>(
         let mut bins: Bins<B> = [[empty; B]; 3];
         for p in chunk {
             let b = p.bounds;
-            let ks = binner.bins(p.centroid);
+            let ks = binner.bins(p.centroid());
             for a in 0..3 {
                 let k = ks[a];
                 bins[a][k].bounds = bins[a][k].bounds.union(b);
@@ -492,7 +494,7 @@ fn sah_bins<const B: usize>(
             if !(n <= max_leaf
                 && leaf_cost <= o.traversal_cost + o.intersect_cost * weighted / area) =>
         {
-            let (mid, [lc, rc]) = partition(idx, |p| binner.bins(p.centroid)[a] <= k);
+            let (mid, [lc, rc]) = partition(idx, |p| binner.bins(p.centroid())[a] <= k);
             if mid == 0 || mid == n {
                 median(idx, a)
             } else {

@@ -7,7 +7,7 @@
 //! Primitive bounds are finite: the loaders and the scene validator reject NaN and infinite
 //! coordinates, and unbounded shapes never reach a structure.
 
-use crate::math::{Aabb, Vec3};
+use crate::math::Aabb;
 use glam::Vec4;
 
 /// A box whose `w` lanes carry no geometry.
@@ -51,22 +51,22 @@ impl Box4 {
     }
 }
 
-/// A primitive as the builder sees it (48 bytes): its bounds, its centroid, and its id in the `w`
-/// lane of the lower corner (as bits, never used as a number).
+/// A primitive as the builder sees it (32 bytes): its bounds, with its id in the `w` lane of the
+/// lower corner (as bits, never used as a number). The builder splits by the centre of the bounds,
+/// as Embree does; keeping no separate centroid saves a third of the build's working memory and
+/// of the bytes every pass streams through.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BuildPrim {
     pub bounds: Box4,
-    pub centroid: Vec4,
 }
 
 impl BuildPrim {
-    pub fn new(bounds: Aabb, centroid: Vec3, id: u32) -> Self {
+    pub fn new(bounds: Aabb, id: u32) -> Self {
         Self {
             bounds: Box4 {
                 lo: bounds.min.extend(f32::from_bits(id)),
                 hi: bounds.max.extend(0.0),
             },
-            centroid: centroid.extend(0.0),
         }
     }
 
@@ -74,4 +74,12 @@ impl BuildPrim {
     pub fn id(&self) -> u32 {
         self.bounds.lo.w.to_bits()
     }
+
+    /// The centre of the bounds (its `w` lane is meaningless).
+    #[inline(always)]
+    pub fn centroid(&self) -> Vec4 {
+        (self.bounds.lo + self.bounds.hi) * 0.5
+    }
 }
+
+const _: () = assert!(std::mem::size_of::<BuildPrim>() == 32);

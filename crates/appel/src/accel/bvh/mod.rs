@@ -39,7 +39,7 @@ impl Bvh {
         );
         let mut refs: Vec<build::BuildPrim> = (0..n)
             .into_par_iter()
-            .map(|i| build::BuildPrim::new(prims.bounds(i), prims.centroid(i), i as u32))
+            .map(|i| build::BuildPrim::new(prims.bounds(i), i as u32))
             .collect();
         let nodes = build::build(&build::Ctx { opts }, &mut refs);
         let indices: Vec<u32> = refs.par_iter().map(|r| r.id()).collect();
