@@ -4,15 +4,18 @@ use appel::accel::AccelKind;
 use appel::bench::{bench_accel, bench_scene, BenchOptions, BenchRays, BenchTarget, BENCH_SCENES};
 use appel::scene::Description;
 
+mod frames;
+
 #[derive(clap::Args)]
 pub struct BenchArgs {
     /// A generated benchmark scene (uniform, teapot-in-stadium), a built-in scene, a scene file or a
     /// mesh file (framed as `appel render` frames it).
     #[arg(default_value = "teapot-in-stadium")]
     target: String,
-    /// Comma-separated acceleration structures to measure.
-    #[arg(long, default_value = "brute,grid,kdtree,bvh")]
-    accel: String,
+    /// Comma-separated acceleration structures to measure [default: brute,grid,kdtree,bvh; with
+    /// --scene: the scene's own].
+    #[arg(long)]
+    accel: Option<String>,
     /// Threads for the multi-threaded figures (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -30,26 +33,28 @@ pub struct BenchArgs {
     /// Timed passes over the rays (the median is reported).
     #[arg(long, default_value_t = 3)]
     runs: usize,
+    /// Real-time mode: render this scene (built-in name, scene file or mesh file) --frames times at
+    /// 1 sample per pixel and report frames per second and rays per frame by kind.
+    #[arg(long, value_name = "SCENE", conflicts_with = "target")]
+    scene: Option<String>,
+    /// Frames to render in real-time mode (the median frame time is reported).
+    #[arg(long, default_value_t = 100, requires = "scene")]
+    frames: usize,
+    /// Recursion depth in real-time mode.
+    #[arg(long, default_value_t = 5, requires = "scene")]
+    max_depth: u32,
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
+    if let Some(scene) = &args.scene {
+        return frames::run(scene, &args);
+    }
     // Camera rays at 640x480 unless --size says otherwise.
     let (w, h) = match &args.view.size {
         Some(size) => parse_size(size)?,
         None => (640, 480),
     };
-    let kinds: Vec<AccelKind> = args
-        .accel
-        .split(',')
-        .map(|n| {
-            AccelKind::from_name(n.trim()).ok_or_else(|| {
-                anyhow!(
-                    "--accel: unknown structure `{n}`, expected some of: {}",
-                    AccelKind::NAMES.join(", ")
-                )
-            })
-        })
-        .collect::<Result<_>>()?;
+    let kinds = parse_accels(args.accel.as_deref().unwrap_or("brute,grid,kdtree,bvh"))?;
     let target = load_target(&args.target, args.triangles, w, h, &args.view)?;
     let options = BenchOptions {
         build_runs: args.builds,
@@ -101,6 +106,20 @@ pub fn run(args: BenchArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `bvh,kdtree` to the structures it names.
+fn parse_accels(list: &str) -> Result<Vec<AccelKind>> {
+    list.split(',')
+        .map(|n| {
+            AccelKind::from_name(n.trim()).ok_or_else(|| {
+                anyhow!(
+                    "--accel: unknown structure `{n}`, expected some of: {}",
+                    AccelKind::NAMES.join(", ")
+                )
+            })
+        })
+        .collect()
 }
 
 fn load_target(
