@@ -1,8 +1,12 @@
 use crate::scene_args::{load_scene, parse_size, ViewArgs};
 use anyhow::{anyhow, bail, Result};
 use appel::accel::AccelKind;
-use appel::bench::{bench_accel, bench_scene, BenchOptions, BenchRays, BenchTarget, BENCH_SCENES};
+use appel::bench::{
+    bench_accel, bench_embree, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget,
+    EmbreeBenchOptions, BENCH_SCENES,
+};
 use appel::scene::Description;
+use embree_peer::BuildQuality;
 
 mod frames;
 
@@ -43,9 +47,26 @@ pub struct BenchArgs {
     /// Recursion depth in real-time mode.
     #[arg(long, default_value_t = 5, requires = "scene")]
     max_depth: u32,
+    /// Also measure Intel Embree 3 (loaded at run time: `libembree3.so.3`, or the file named by
+    /// APPEL_EMBREE_LIB) on the same rays, in the same process and thread pools.
+    #[arg(long)]
+    embree: bool,
+    /// Embree's build quality: low, medium (Embree's default) or high.
+    #[arg(long, default_value = "medium", requires = "embree")]
+    embree_quality: String,
+    /// Embree's robust (watertight) mode, RTC_SCENE_FLAG_ROBUST.
+    #[arg(long, requires = "embree")]
+    embree_robust: bool,
 }
 
+/// More threads than this is a typo, not a machine.
+const MAX_THREADS: usize = 4096;
+
 pub fn run(args: BenchArgs) -> Result<()> {
+    let threads = args.threads.unwrap_or(0);
+    if threads > MAX_THREADS || args.threads == Some(0) {
+        bail!("--threads: expected 1 to {MAX_THREADS}, got {threads}");
+    }
     if let Some(scene) = &args.scene {
         return frames::run(scene, &args);
     }
@@ -55,54 +76,65 @@ pub fn run(args: BenchArgs) -> Result<()> {
         None => (640, 480),
     };
     let kinds = parse_accels(args.accel.as_deref().unwrap_or("brute,grid,kdtree,bvh"))?;
+    let quality = BuildQuality::from_name(&args.embree_quality).ok_or_else(|| {
+        anyhow!(
+            "--embree-quality: expected low, medium or high, got `{}`",
+            args.embree_quality
+        )
+    })?;
     let target = load_target(&args.target, args.triangles, w, h, &args.view)?;
     let options = BenchOptions {
         build_runs: args.builds,
         trace_runs: args.runs,
-        threads: args.threads.unwrap_or(0),
+        threads,
     };
     let rays = BenchRays::new(&target);
     if !args.json {
         println!(
-            "{}: {} triangles, {} primitives, {}x{} camera rays",
+            "{}: {} triangles, {} primitives, {}x{} camera rays, {} incoherent, {} shadow",
             target.name,
             target.geometry.triangle_count(),
             target.geometry.prims.len(),
             w,
-            h
+            h,
+            rays.incoherent.len(),
+            rays.shadow.len()
         );
         println!(
-            "{:<8} {:>10} {:>12} {:>6} {:>22} {:>22} {:>15} {:>15}",
+            "{:<13} {:>9} {:>12} {:>19} {:>19} {:>19} {:>13} {:>13}",
             "accel",
             "build ms",
             "bytes",
-            "depth",
-            "camera Mrays/s 1t/Nt",
+            "camera 1t/Nt",
             "incoherent 1t/Nt",
-            "nodes/ray cam/inc",
-            "tests/ray cam/inc"
+            "shadow 1t/Nt",
+            "nodes cam/inc",
+            "tests cam/inc"
         );
     }
+    let mut notes = vec![];
     for kind in kinds {
-        let r = bench_accel(&target, &rays, kind, &options);
-        if args.json {
-            println!("{}", serde_json::to_string(&r)?);
-        } else {
-            println!(
-                "{:<8} {:>10.1} {:>12} {:>6} {:>10} / {:<9} {:>10} / {:<9} {:>7.1}/{:<7.1} {:>7.1}/{:<7.1}",
-                r.accel,
-                r.build_ms,
-                r.bytes,
-                r.depth,
-                rate(r.primary_mrays_1t),
-                rate(r.primary_mrays),
-                rate(r.incoherent_mrays_1t),
-                rate(r.incoherent_mrays),
-                r.nodes_per_ray,
-                r.incoherent_nodes_per_ray,
-                r.tests_per_ray,
-                r.incoherent_tests_per_ray
-            );
+        print_result(&bench_accel(&target, &rays, kind, &options), args.json)?;
+    }
+    if args.embree {
+        let e = EmbreeBenchOptions {
+            quality,
+            robust: args.embree_robust,
+        };
+        let (r, about) = bench_embree(&target, &rays, &options, &e).map_err(|e| anyhow!(e))?;
+        print_result(&r, args.json)?;
+        notes.push(format!(
+            "{about}: camera rays in packets of 8 (rtcIntersect8): {} / {} Mrays/s; \
+             same primitive as Appel's bvh on {:.4}% of camera and incoherent rays",
+            rate(r.packet8_mrays_1t.unwrap_or(0.0)),
+            rate(r.packet8_mrays.unwrap_or(0.0)),
+            100.0 * r.agreement.unwrap_or(0.0)
+        ));
+    }
+    if !args.json {
+        println!("Mrays/s with 1 thread / {} threads; closest hit for camera and incoherent rays, any hit for shadow rays", rayon_threads(threads));
+        for n in notes {
+            println!("{n}");
         }
     }
     Ok(())
@@ -120,6 +152,41 @@ fn parse_accels(list: &str) -> Result<Vec<AccelKind>> {
             })
         })
         .collect()
+}
+
+fn rayon_threads(threads: usize) -> usize {
+    if threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        threads
+    }
+}
+
+fn print_result(r: &BenchResult, json: bool) -> Result<()> {
+    if json {
+        println!("{}", serde_json::to_string(r)?);
+        return Ok(());
+    }
+    let pair = |a: f64, b: f64| format!("{} / {}", rate(a), rate(b));
+    let counts = |a: f64, b: f64| {
+        if r.accel.starts_with("embree") {
+            "-".to_string()
+        } else {
+            format!("{a:.1}/{b:.1}")
+        }
+    };
+    println!(
+        "{:<13} {:>9.1} {:>12} {:>19} {:>19} {:>19} {:>13} {:>13}",
+        r.accel,
+        r.build_ms,
+        r.bytes,
+        pair(r.primary_mrays_1t, r.primary_mrays),
+        pair(r.incoherent_mrays_1t, r.incoherent_mrays),
+        pair(r.shadow_mrays_1t, r.shadow_mrays),
+        counts(r.nodes_per_ray, r.incoherent_nodes_per_ray),
+        counts(r.tests_per_ray, r.incoherent_tests_per_ray),
+    );
+    Ok(())
 }
 
 fn load_target(

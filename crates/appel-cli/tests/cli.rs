@@ -421,3 +421,64 @@ fn bench_json_reports_every_structure_with_the_documented_keys() {
     assert_eq!(bad.status.code(), Some(1));
     assert!(stderr(&bad).contains("unknown structure `octree`"));
 }
+
+#[test]
+fn bench_embree_row_measures_embree_on_the_same_rays() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = appel(
+        &[
+            "bench",
+            "teapot-in-stadium",
+            "--triangles",
+            "5000",
+            "--size",
+            "64x48",
+            "--accel",
+            "bvh",
+            "--builds",
+            "1",
+            "--runs",
+            "1",
+            "--embree",
+            "--json",
+        ],
+        dir.path(),
+    );
+    if !out.status.success() && std::env::var_os("APPEL_REQUIRE_EMBREE").is_none() {
+        assert!(
+            stderr(&out).contains("cannot load Embree 3"),
+            "{}",
+            stderr(&out)
+        );
+        eprintln!("skipped: {}", stderr(&out));
+        return;
+    }
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let rows: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 2, "{text}");
+    let (bvh, embree) = (&rows[0], &rows[1]);
+    assert_eq!(embree["accel"], "embree");
+    assert_eq!(embree["triangles"], bvh["triangles"]);
+    assert_eq!(embree["rays_primary"], 64 * 48);
+    for key in [
+        "primary_mrays",
+        "incoherent_mrays",
+        "shadow_mrays",
+        "packet8_mrays",
+    ] {
+        assert!(embree[key].as_f64().unwrap() > 0.0, "{key}: {embree}");
+    }
+    assert!(embree["agreement"].as_f64().unwrap() > 0.999, "{embree}");
+    assert!(embree["bytes"].as_u64().unwrap() > 5000 * 12, "{embree}");
+    let bad = appel(&["bench", "uniform", "--threads", "0"], dir.path());
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(
+        stderr(&bad).contains("--threads: expected 1 to"),
+        "{}",
+        stderr(&bad)
+    );
+}

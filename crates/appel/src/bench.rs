@@ -1,11 +1,14 @@
 //! The measurement behind `appel bench`: for each acceleration structure, build time and memory, and
 //! closest-hit throughput on the scene's camera rays and on incoherent rays, with one thread and with
-//! all of them.
+//! all of them; and the same figures for Embree on the same rays ([`embree`]).
+
+mod embree;
+pub use embree::{bench_embree, flat_triangles, EmbreeBenchOptions, FlatTriangles};
 
 use crate::accel::{Accel, AccelKind, TraversalStats};
 use crate::geometry::procedural::{append, icosphere, scattered_triangles, stadium, SplitMix64};
 use crate::geometry::TriangleMesh;
-use crate::math::{offset_ray_origin, orthonormal_basis, Ray, Vec3};
+use crate::math::{offset_ray_origin, orthonormal_basis, Aabb, Ray, Vec3};
 use crate::scene::description::CameraDesc;
 use crate::scene::{Camera, Geometry};
 use rayon::prelude::*;
@@ -88,9 +91,22 @@ pub struct BenchResult {
     pub incoherent_mrays: f64,
     pub primary_mrays_1t: f64,
     pub incoherent_mrays_1t: f64,
+    /// Any-hit Mrays/s on shadow rays (camera hit to a point light), with all `threads` and with one.
+    pub shadow_mrays: f64,
+    pub shadow_mrays_1t: f64,
+    /// Camera rays traced as packets of eight (a peer's packet mode), all `threads` and one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packet8_mrays: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packet8_mrays_1t: Option<f64>,
+    /// Fraction of camera and incoherent rays on which a peer reports the same primitive as Appel's
+    /// BVH (or a miss for both).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub agreement: Option<f64>,
     pub threads: usize,
     pub rays_primary: usize,
     pub rays_incoherent: usize,
+    pub rays_shadow: usize,
     /// Mean nodes (or cells) visited and primitive tests per camera ray.
     pub nodes_per_ray: f64,
     pub tests_per_ray: f64,
@@ -143,55 +159,91 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Mrays/s of closest-hit queries on `rays` in the given pool (median of `runs`).
-fn throughput(
+/// Mrays/s of `trace` over `items` (rays, or packets of `rays_per_item` rays) in the given pool
+/// (median of `runs`). `trace` returns how many hits it found, so that no work can be optimised away.
+pub fn throughput<T: Sync>(
     pool: &rayon::ThreadPool,
-    g: &Geometry,
-    accel: &Accel,
-    rays: &[Ray],
+    items: &[T],
+    rays_per_item: usize,
     runs: usize,
+    trace: impl Fn(&T) -> usize + Sync,
 ) -> f64 {
-    if rays.is_empty() {
+    if items.is_empty() {
         return 0.0;
     }
     let times: Vec<f64> = (0..runs.max(1))
         .map(|_| {
             let start = Instant::now();
             let hits: usize = pool.install(|| {
-                rays.par_chunks(1024)
-                    .map(|chunk| {
-                        let mut stats = TraversalStats::default();
-                        chunk
-                            .iter()
-                            .filter(|r| accel.intersect(g, r, f32::INFINITY, &mut stats).is_some())
-                            .count()
-                    })
+                items
+                    .par_chunks((1024 / rays_per_item).max(1))
+                    .map(|chunk| chunk.iter().map(&trace).sum::<usize>())
                     .sum()
             });
             std::hint::black_box(hits);
             start.elapsed().as_secs_f64()
         })
         .collect();
-    rays.len() as f64 / median(times) / 1e6
+    (items.len() * rays_per_item) as f64 / median(times) / 1e6
+}
+
+/// A shadow ray: any hit with `t` in `(0, t_max)`.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowRay {
+    pub ray: Ray,
+    pub t_max: f32,
 }
 
 /// The rays every structure is measured on: the same for all, so their figures compare.
 pub struct BenchRays {
     pub primary: Vec<Ray>,
     pub incoherent: Vec<Ray>,
+    pub shadow: Vec<ShadowRay>,
 }
 
 impl BenchRays {
-    /// Camera rays, and incoherent rays found with the default structure.
+    /// Camera rays, and the incoherent and shadow rays that leave their hits, found with the
+    /// default structure.
     pub fn new(target: &BenchTarget) -> Self {
         let accel = Accel::build(AccelKind::default(), &target.geometry);
         let primary = camera_rays(&target.camera);
         let incoherent = incoherent_rays(target, &accel, &primary);
+        let shadow = shadow_rays(target, &accel, &primary);
         Self {
             primary,
             incoherent,
+            shadow,
         }
     }
+}
+
+/// Where the benchmark's point light sits: above the scene and off to one side, two bounding-box
+/// diagonals from its centre, so that shadow rays are long and not axis-aligned.
+fn bench_light(bounds: &Aabb) -> Vec3 {
+    let d = (bounds.max - bounds.min).length().max(1e-3);
+    bounds.center() + Vec3::new(0.6, 1.6, 0.8).normalize() * 2.0 * d
+}
+
+/// From each camera hit, one shadow ray toward [`bench_light`], ending at the light.
+pub fn shadow_rays(target: &BenchTarget, accel: &Accel, primary: &[Ray]) -> Vec<ShadowRay> {
+    let g = &target.geometry;
+    let light = bench_light(&g.bounds());
+    let mut stats = TraversalStats::default();
+    primary
+        .iter()
+        .filter_map(|ray| {
+            let hit = accel.intersect(g, ray, f32::INFINITY, &mut stats)?;
+            let si = g.interaction(ray, &g.scene_hit(hit));
+            let to_light = light - si.p;
+            let dir = to_light.normalize();
+            let origin = offset_ray_origin(si.p, si.p_error, si.n, dir);
+            let t_max = (light - origin).length();
+            Some(ShadowRay {
+                ray: Ray::new(origin, dir),
+                t_max,
+            })
+        })
+        .collect()
 }
 
 /// Measures one structure on the target.
@@ -229,6 +281,10 @@ pub fn bench_accel(
     };
     let primary = subset(&rays.primary);
     let incoherent = subset(&rays.incoherent);
+    let shadow: Vec<ShadowRay> = {
+        let stride = rays.shadow.len().div_ceil(budget).max(1);
+        rays.shadow.iter().step_by(stride).copied().collect()
+    };
     let trace_runs = if primary.len() < rays.primary.len() {
         1
     } else {
@@ -244,14 +300,16 @@ pub fn bench_accel(
     };
     let (nodes_per_ray, tests_per_ray) = count(&primary);
     let (incoherent_nodes_per_ray, incoherent_tests_per_ray) = count(&incoherent);
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("thread pool");
-    let all = rayon::ThreadPoolBuilder::new()
-        .num_threads(o.threads)
-        .build()
-        .expect("thread pool");
+    let (one, all) = pools(o.threads);
+    let closest = |r: &Ray| {
+        let mut stats = TraversalStats::default();
+        accel.intersect(g, r, f32::INFINITY, &mut stats).is_some() as usize
+    };
+    let any = |s: &ShadowRay| {
+        let mut stats = TraversalStats::default();
+        accel.occluded(g, &s.ray, s.t_max, &mut stats) as usize
+    };
+    let runs = trace_runs;
     BenchResult {
         accel: kind.name().to_string(),
         scene: target.name.clone(),
@@ -260,16 +318,33 @@ pub fn bench_accel(
         build_ms: median(builds),
         bytes: stats.bytes,
         depth: stats.depth,
-        primary_mrays: throughput(&all, g, &accel, &primary, trace_runs),
-        incoherent_mrays: throughput(&all, g, &accel, &incoherent, trace_runs),
-        primary_mrays_1t: throughput(&one, g, &accel, &primary, trace_runs),
-        incoherent_mrays_1t: throughput(&one, g, &accel, &incoherent, trace_runs),
+        primary_mrays: throughput(&all, &primary, 1, runs, closest),
+        incoherent_mrays: throughput(&all, &incoherent, 1, runs, closest),
+        primary_mrays_1t: throughput(&one, &primary, 1, runs, closest),
+        incoherent_mrays_1t: throughput(&one, &incoherent, 1, runs, closest),
+        shadow_mrays: throughput(&all, &shadow, 1, runs, any),
+        shadow_mrays_1t: throughput(&one, &shadow, 1, runs, any),
+        packet8_mrays: None,
+        packet8_mrays_1t: None,
+        agreement: None,
         threads: all.current_num_threads(),
         rays_primary: primary.len(),
         rays_incoherent: incoherent.len(),
+        rays_shadow: shadow.len(),
         nodes_per_ray,
         tests_per_ray,
         incoherent_nodes_per_ray,
         incoherent_tests_per_ray,
     }
+}
+
+/// A one-thread pool and a pool of `threads` (0: all cores).
+pub(crate) fn pools(threads: usize) -> (rayon::ThreadPool, rayon::ThreadPool) {
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .expect("a thread pool of a valid size")
+    };
+    (pool(1), pool(threads))
 }

@@ -1,0 +1,125 @@
+//! Every acceleration structure finds the hits Intel Embree finds, on the same rays, in this process:
+//! camera rays, incoherent rays and shadow rays on shared real meshes and on the generated benchmark
+//! scenes. Embree is loaded at run time; without it the test says so and passes, unless
+//! `APPEL_REQUIRE_EMBREE` is set (as `.ci/run` does after installing it), when it fails.
+
+use appel::accel::{Accel, AccelKind, TraversalStats};
+use appel::bench::{bench_scene, flat_triangles, BenchRays, BenchTarget};
+use appel::scene::{frame_model, model_description, Camera, Scene};
+use embree_peer::{BuildQuality, Embree};
+use std::path::Path;
+
+fn embree() -> Option<Embree> {
+    match Embree::load(0) {
+        Ok(e) => Some(e),
+        Err(e) if std::env::var_os("APPEL_REQUIRE_EMBREE").is_some() => {
+            panic!("APPEL_REQUIRE_EMBREE is set but {e}")
+        }
+        Err(e) => {
+            eprintln!("skipped: {e}");
+            None
+        }
+    }
+}
+
+fn model(file: &str, w: u32, h: u32) -> Option<BenchTarget> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/data/common-3d-test-models")
+        .join(file);
+    if !p.exists() {
+        eprintln!("skipped {file}: {} not found", p.display());
+        return None;
+    }
+    let mut d = model_description(file);
+    (d.camera.width, d.camera.height) = (w, h);
+    let scene = Scene::new(&d, p.parent().unwrap()).unwrap();
+    let framed = frame_model(&d, scene.geometry.bounds());
+    Some(BenchTarget {
+        name: file.into(),
+        camera: Camera::new(&framed.camera),
+        geometry: scene.geometry,
+    })
+}
+
+/// Compares every structure with Embree on the target's rays. Embree's default triangle test is not
+/// watertight and both round differently, so a few rays in a million may take the neighbouring
+/// triangle of an edge; the thresholds are those of `bench/compare_embree.py`.
+fn check(embree: &Embree, t: &BenchTarget) {
+    let flat = flat_triangles(&t.geometry).unwrap();
+    let scene = embree
+        .triangle_scene(&flat.positions, &flat.indices, BuildQuality::Medium, false)
+        .unwrap();
+    let rays = BenchRays::new(t);
+    let g = &t.geometry;
+    for &name in AccelKind::NAMES.iter().filter(|&&n| n != "brute") {
+        let accel = Accel::build(AccelKind::from_name(name).unwrap(), g);
+        let mut s = TraversalStats::default();
+        let (mut n, mut hit_agree, mut prim_agree, mut t_agree) = (0usize, 0usize, 0usize, 0usize);
+        for r in rays.primary.iter().chain(&rays.incoherent) {
+            n += 1;
+            let ours = accel.intersect(g, r, f32::INFINITY, &mut s);
+            let theirs = scene.intersect(r.origin.to_array(), r.dir.to_array(), f32::INFINITY);
+            match (ours, theirs) {
+                (None, None) => {
+                    hit_agree += 1;
+                    prim_agree += 1;
+                    t_agree += 1;
+                }
+                (Some(a), Some(b)) => {
+                    hit_agree += 1;
+                    prim_agree += (a.prim == b.prim) as usize;
+                    t_agree += ((a.t - b.t).abs() <= 1e-5 * a.t.max(1.0)) as usize;
+                }
+                _ => {}
+            }
+        }
+        let shadow_agree = rays
+            .shadow
+            .iter()
+            .filter(|sr| {
+                accel.occluded(g, &sr.ray, sr.t_max, &mut s)
+                    == scene.occluded(sr.ray.origin.to_array(), sr.ray.dir.to_array(), sr.t_max)
+            })
+            .count();
+        let frac = |k: usize, of: usize| k as f64 / of.max(1) as f64;
+        let msg = format!(
+            "{} {name}: {n} rays, hit/miss {:.5}, primid {:.5}, t {:.5}, shadow {:.5} of {}",
+            t.name,
+            frac(hit_agree, n),
+            frac(prim_agree, n),
+            frac(t_agree, n),
+            frac(shadow_agree, rays.shadow.len()),
+            rays.shadow.len()
+        );
+        eprintln!("{msg}");
+        assert!(n > 1000 && rays.shadow.len() > 100, "{msg}");
+        assert!(frac(hit_agree, n) >= 0.9999, "{msg}");
+        assert!(frac(prim_agree, n) >= 0.999, "{msg}");
+        assert!(frac(t_agree, n) >= 0.999, "{msg}");
+        assert!(frac(shadow_agree, rays.shadow.len()) >= 0.999, "{msg}");
+    }
+}
+
+#[test]
+fn every_structure_agrees_with_embree_on_shared_meshes() {
+    let Some(embree) = embree() else { return };
+    for file in [
+        "stanford-bunny.obj.gz",
+        "ogre.obj.gz",
+        "fandisk.obj",
+        "teapot.obj",
+    ] {
+        if let Some(t) = model(file, 160, 120) {
+            check(&embree, &t);
+        }
+    }
+}
+
+#[test]
+fn every_structure_agrees_with_embree_on_generated_scenes() {
+    let Some(embree) = embree() else { return };
+    for name in ["uniform", "teapot-in-stadium"] {
+        let t = bench_scene(name, 20_000, 160, 120).unwrap();
+        check(&embree, &t);
+    }
+}
