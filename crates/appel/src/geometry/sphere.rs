@@ -180,7 +180,10 @@ mod tests {
         assert!(si.n.dot(-Vec3::Z) > 0.999);
         // Without texture coordinates, everything else is the same to the bit.
         let bare = s.interaction_with(&r, &h, false);
-        assert_eq!((bare.p, bare.p_error, bare.n, bare.ns), (si.p, si.p_error, si.n, si.ns));
+        assert_eq!(
+            (bare.p, bare.p_error, bare.n, bare.ns),
+            (si.p, si.p_error, si.n, si.ns)
+        );
         assert_eq!(bare.uv, Vec2::ZERO);
         assert!(si.uv.x > 0.0 && si.uv.y > 0.0);
     }
