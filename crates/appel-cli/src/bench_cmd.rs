@@ -8,15 +8,18 @@ use appel::bench::{
 use appel::scene::Description;
 use embree_peer::BuildQuality;
 
+mod frames;
+
 #[derive(clap::Args)]
 pub struct BenchArgs {
     /// A generated benchmark scene (uniform, teapot-in-stadium), a built-in scene, a scene file or a
     /// mesh file (framed as `appel render` frames it).
     #[arg(default_value = "teapot-in-stadium")]
     target: String,
-    /// Comma-separated acceleration structures to measure.
-    #[arg(long, default_value = "brute,grid,kdtree,bvh")]
-    accel: String,
+    /// Comma-separated acceleration structures to measure [default: brute,grid,kdtree,bvh; with
+    /// --scene: the scene's own].
+    #[arg(long)]
+    accel: Option<String>,
     /// Threads for the multi-threaded figures (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -34,6 +37,16 @@ pub struct BenchArgs {
     /// Timed passes over the rays (the median is reported).
     #[arg(long, default_value_t = 3)]
     runs: usize,
+    /// Real-time mode: render this scene (built-in name, scene file or mesh file) --frames times at
+    /// 1 sample per pixel and report frames per second and rays per frame by kind.
+    #[arg(long, value_name = "SCENE", conflicts_with = "target")]
+    scene: Option<String>,
+    /// Frames to render in real-time mode (the median frame time is reported).
+    #[arg(long, default_value_t = 100, requires = "scene")]
+    frames: usize,
+    /// Recursion depth in real-time mode.
+    #[arg(long, default_value_t = 5, requires = "scene")]
+    max_depth: u32,
     /// Also measure Intel Embree 3 (loaded at run time: `libembree3.so.3`, or the file named by
     /// APPEL_EMBREE_LIB) on the same rays, in the same process and thread pools.
     #[arg(long)]
@@ -50,27 +63,19 @@ pub struct BenchArgs {
 const MAX_THREADS: usize = 4096;
 
 pub fn run(args: BenchArgs) -> Result<()> {
+    let threads = args.threads.unwrap_or(0);
+    if threads > MAX_THREADS || args.threads == Some(0) {
+        bail!("--threads: expected 1 to {MAX_THREADS}, got {threads}");
+    }
+    if let Some(scene) = &args.scene {
+        return frames::run(scene, &args);
+    }
     // Camera rays at 640x480 unless --size says otherwise.
     let (w, h) = match &args.view.size {
         Some(size) => parse_size(size)?,
         None => (640, 480),
     };
-    let kinds: Vec<AccelKind> = args
-        .accel
-        .split(',')
-        .map(|n| {
-            AccelKind::from_name(n.trim()).ok_or_else(|| {
-                anyhow!(
-                    "--accel: unknown structure `{n}`, expected some of: {}",
-                    AccelKind::NAMES.join(", ")
-                )
-            })
-        })
-        .collect::<Result<_>>()?;
-    let threads = args.threads.unwrap_or(0);
-    if threads > MAX_THREADS || args.threads == Some(0) {
-        bail!("--threads: expected 1 to {MAX_THREADS}, got {threads}");
-    }
+    let kinds = parse_accels(args.accel.as_deref().unwrap_or("brute,grid,kdtree,bvh"))?;
     let quality = BuildQuality::from_name(&args.embree_quality).ok_or_else(|| {
         anyhow!(
             "--embree-quality: expected low, medium or high, got `{}`",
@@ -133,6 +138,20 @@ pub fn run(args: BenchArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `bvh,kdtree` to the structures it names.
+fn parse_accels(list: &str) -> Result<Vec<AccelKind>> {
+    list.split(',')
+        .map(|n| {
+            AccelKind::from_name(n.trim()).ok_or_else(|| {
+                anyhow!(
+                    "--accel: unknown structure `{n}`, expected some of: {}",
+                    AccelKind::NAMES.join(", ")
+                )
+            })
+        })
+        .collect()
 }
 
 fn rayon_threads(threads: usize) -> usize {

@@ -482,3 +482,85 @@ fn bench_embree_row_measures_embree_on_the_same_rays() {
         stderr(&bad)
     );
 }
+
+#[test]
+fn bench_scene_frames_reports_fps_and_rays_by_kind() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "bench",
+        "--scene",
+        "whitted",
+        "--frames",
+        "3",
+        "--size",
+        "32x24",
+        "--threads",
+        "1",
+        "--json",
+    ];
+    let out = appel(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let v: serde_json::Value = serde_json::from_str(text.trim()).expect("one JSON object");
+    assert_eq!(v["scene"], "whitted");
+    assert_eq!(
+        (v["width"].as_u64(), v["height"].as_u64()),
+        (Some(32), Some(24))
+    );
+    assert_eq!(
+        (v["spp"].as_u64(), v["max_depth"].as_u64()),
+        (Some(1), Some(5))
+    );
+    assert_eq!(
+        (v["frames"].as_u64(), v["threads"].as_u64()),
+        (Some(3), Some(1))
+    );
+    assert_eq!(v["camera_rays"].as_u64(), Some(32 * 24));
+    let kinds = [
+        "camera_rays",
+        "shadow_rays",
+        "reflection_rays",
+        "refraction_rays",
+    ];
+    let sum: u64 = kinds.iter().map(|k| v[k].as_u64().unwrap()).sum();
+    assert_eq!(v["rays_per_frame"].as_u64(), Some(sum));
+    assert!(kinds.iter().all(|k| v[k].as_u64().unwrap() > 0), "{v}");
+    let (fps, ms) = (
+        v["fps"].as_f64().unwrap(),
+        v["frame_ms_median"].as_f64().unwrap(),
+    );
+    assert!((fps * ms - 1000.0).abs() < 1e-6, "{v}");
+    // A shallower recursion traces fewer secondary rays; a structure by name is honoured.
+    let shallow = appel(
+        &[
+            "bench",
+            "--scene",
+            "whitted",
+            "--frames",
+            "1",
+            "--size",
+            "32x24",
+            "--max-depth",
+            "1",
+            "--accel",
+            "brute",
+            "--json",
+        ],
+        dir.path(),
+    );
+    assert!(shallow.status.success(), "{}", stderr(&shallow));
+    let s: serde_json::Value =
+        serde_json::from_str(String::from_utf8_lossy(&shallow.stdout).trim()).unwrap();
+    assert_eq!(s["accel"], "brute");
+    assert!(s["reflection_rays"].as_u64() < v["reflection_rays"].as_u64());
+    let bad = appel(
+        &["bench", "--scene", "whitted", "--frames", "0"],
+        dir.path(),
+    );
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(
+        stderr(&bad).contains("--frames must be at least 1"),
+        "{}",
+        stderr(&bad)
+    );
+}

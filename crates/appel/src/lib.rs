@@ -6,6 +6,7 @@
 
 pub mod accel;
 pub mod bench;
+pub mod bench_frames;
 pub mod error;
 pub mod geometry;
 pub mod io;

@@ -27,6 +27,9 @@ pub struct KdOptions {
     pub max_prims: usize,
     /// `None`: `8 + 1.3 log2(N)`, pbrt's rule of thumb.
     pub max_depth: Option<usize>,
+    /// A node becomes a leaf when it would be the `max_bad`-th split on its path that does not
+    /// lower the SAH cost (pbrt: 3).
+    pub max_bad: u32,
 }
 
 impl Default for KdOptions {
@@ -39,6 +42,7 @@ impl Default for KdOptions {
             empty_bonus: 0.5,
             max_prims: 2,
             max_depth: None,
+            max_bad: 3,
         }
     }
 }
@@ -336,7 +340,7 @@ impl<P: Primitives> Builder<'_, P> {
         let leaf_cost = o.intersect_cost * n as f32;
         let bad = bad + (cost > leaf_cost) as u32;
         // pbrt: give up on splits far worse than a leaf for small nodes, or after three bad ones.
-        if (cost > 4.0 * leaf_cost && n < 16) || bad == 3 {
+        if (cost > 4.0 * leaf_cost && n < 16) || bad >= o.max_bad {
             return self.make_leaf(node, &ids, depth);
         }
         let (mut bn, mut an) = (node, node);

@@ -70,6 +70,13 @@ impl Sphere {
     }
 
     pub fn interaction(&self, ray: &Ray, hit: &PrimHit) -> SurfaceInteraction {
+        self.interaction_with(ray, hit, true)
+    }
+
+    /// [`Self::interaction`], with `uv` left at zero unless `with_uv`: the texture coordinates take an
+    /// `atan2` and an `acos`, the larger part of the cost, and only textured materials read them.
+    #[inline]
+    pub fn interaction_with(&self, ray: &Ray, hit: &PrimHit, with_uv: bool) -> SurfaceInteraction {
         // Re-project the hit point onto the surface (pbrt-v4 section 6.8.5), so its error no longer
         // depends on how far the ray travelled.
         let c = self.center.as_dvec3();
@@ -85,10 +92,14 @@ impl Sphere {
         let local = local.as_vec3();
         let p_error = gamma(5) * (local.abs() + p.abs());
         let n = (local / self.radius).normalize();
-        // Arc lengths along longitude and latitude: texture units are scene units, as on planes.
-        let phi = n.z.atan2(n.x) + std::f32::consts::PI;
-        let theta = n.y.clamp(-1.0, 1.0).acos();
-        let uv = Vec2::new(phi, theta) * self.radius;
+        let uv = if with_uv {
+            // Arc lengths along longitude and latitude: texture units are scene units, as on planes.
+            let phi = n.z.atan2(n.x) + std::f32::consts::PI;
+            let theta = n.y.clamp(-1.0, 1.0).acos();
+            Vec2::new(phi, theta) * self.radius
+        } else {
+            Vec2::ZERO
+        };
         SurfaceInteraction {
             p,
             p_error,
@@ -167,5 +178,13 @@ mod tests {
         let si = s.interaction(&r, &h);
         assert!(((si.p - s.center).length() - 2.0).abs() < 1e-5);
         assert!(si.n.dot(-Vec3::Z) > 0.999);
+        // Without texture coordinates, everything else is the same to the bit.
+        let bare = s.interaction_with(&r, &h, false);
+        assert_eq!(
+            (bare.p, bare.p_error, bare.n, bare.ns),
+            (si.p, si.p_error, si.n, si.ns)
+        );
+        assert_eq!(bare.uv, Vec2::ZERO);
+        assert!(si.uv.x > 0.0 && si.uv.y > 0.0);
     }
 }

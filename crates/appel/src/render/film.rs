@@ -50,6 +50,30 @@ impl Film {
         }
     }
 
+    /// An empty film with room for `width * height` pixels, to be filled in row order by
+    /// [`Self::extend`].
+    pub(crate) fn with_capacity(width: u32, height: u32) -> Self {
+        let n = width as usize * height as usize;
+        Self {
+            width,
+            height,
+            rgb: Vec::with_capacity(n),
+            depth: Vec::with_capacity(n),
+            normal: Vec::with_capacity(n),
+            shape_id: Vec::with_capacity(n),
+            prim_id: Vec::with_capacity(n),
+        }
+    }
+
+    /// Appends pixels after the last one.
+    pub(crate) fn extend(&mut self, pixels: &[(Vec3, PixelAov)]) {
+        self.rgb.extend(pixels.iter().map(|p| p.0));
+        self.depth.extend(pixels.iter().map(|p| p.1.depth));
+        self.normal.extend(pixels.iter().map(|p| p.1.normal));
+        self.shape_id.extend(pixels.iter().map(|p| p.1.shape_id));
+        self.prim_id.extend(pixels.iter().map(|p| p.1.prim_id));
+    }
+
     pub fn index(&self, x: u32, y: u32) -> usize {
         y as usize * self.width as usize + x as usize
     }

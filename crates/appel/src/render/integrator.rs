@@ -13,14 +13,33 @@ use crate::scene::{Light, Scene, SceneHit};
 const SHADOW_EPSILON: f32 = 1e-4;
 
 pub trait Integrator: Sync {
-    /// Radiance arriving along the camera ray `ray`, whose closest hit `hit` the caller already found.
+    /// Radiance arriving along the camera ray `ray`, whose closest hit and surface `hit` the caller
+    /// already found (see [`surface_hit`]).
     fn radiance(
         &self,
         scene: &Scene,
         ray: &Ray,
-        hit: Option<SceneHit>,
+        hit: Option<&SurfaceHit>,
         ctx: &mut TraceContext,
     ) -> Vec3;
+}
+
+/// A closest hit with its surface, computed once: the renderer needs the surface for the AOVs of the
+/// camera ray and the integrator for shading it.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHit {
+    pub hit: SceneHit,
+    pub si: SurfaceInteraction,
+}
+
+/// The surface at `hit`, with texture coordinates only where the material reads them.
+#[inline]
+pub fn surface_hit(scene: &Scene, ray: &Ray, hit: SceneHit) -> SurfaceHit {
+    let with_uv = scene.material(&hit).needs_uv();
+    SurfaceHit {
+        hit,
+        si: scene.geometry.interaction_with(ray, &hit, with_uv),
+    }
 }
 
 /// One eye ray per pixel, one shadow ray per light, local shading only.
@@ -36,14 +55,13 @@ impl Integrator for Raycast {
         &self,
         scene: &Scene,
         ray: &Ray,
-        hit: Option<SceneHit>,
+        hit: Option<&SurfaceHit>,
         ctx: &mut TraceContext,
     ) -> Vec3 {
-        let Some(hit) = hit else {
+        let Some(h) = hit else {
             return scene.background;
         };
-        let si = scene.geometry.interaction(ray, &hit);
-        local_shading(scene, scene.material(&hit), &si, -ray.dir, ctx)
+        local_shading(scene, scene.material(&h.hit), &h.si, -ray.dir, ctx)
     }
 }
 
@@ -52,7 +70,7 @@ impl Integrator for Whitted {
         &self,
         scene: &Scene,
         ray: &Ray,
-        hit: Option<SceneHit>,
+        hit: Option<&SurfaceHit>,
         ctx: &mut TraceContext,
     ) -> Vec3 {
         self.trace(scene, ray, hit, 0, ctx)
@@ -70,17 +88,16 @@ impl Whitted {
         &self,
         scene: &Scene,
         ray: &Ray,
-        hit: Option<SceneHit>,
+        hit: Option<&SurfaceHit>,
         depth: u32,
         ctx: &mut TraceContext,
     ) -> Vec3 {
-        let Some(hit) = hit else {
+        let Some(SurfaceHit { hit, si }) = hit else {
             return scene.background;
         };
-        let si = scene.geometry.interaction(ray, &hit);
-        let m = scene.material(&hit);
+        let m = scene.material(hit);
         let wo = -ray.dir;
-        let mut color = local_shading(scene, m, &si, wo, ctx);
+        let mut color = local_shading(scene, m, si, wo, ctx);
         if depth >= self.max_depth || !m.is_specular() {
             return color;
         }
@@ -111,10 +128,10 @@ impl Whitted {
         }
         if kr > 0.0 {
             let dir = reflect(ray.dir, ns);
-            color += kr * self.spawn(scene, &si, dir, depth, Bounce::Reflection, ctx);
+            color += kr * self.spawn(scene, si, dir, depth, Bounce::Reflection, ctx);
         }
         if let (Some(dir), true) = (refracted, kt > 0.0) {
-            color += kt * self.spawn(scene, &si, dir, depth, Bounce::Refraction, ctx);
+            color += kt * self.spawn(scene, si, dir, depth, Bounce::Refraction, ctx);
         }
         color
     }
@@ -133,8 +150,10 @@ impl Whitted {
             Bounce::Refraction => ctx.rays.refraction += 1,
         }
         let ray = Ray::new(offset_ray_origin(si.p, si.p_error, si.n, dir), dir);
-        let hit = scene.intersect(&ray, f32::INFINITY, &mut ctx.traversal);
-        self.trace(scene, &ray, hit, depth + 1, ctx)
+        let hit = scene
+            .intersect(&ray, f32::INFINITY, &mut ctx.traversal)
+            .map(|h| surface_hit(scene, &ray, h));
+        self.trace(scene, &ray, hit.as_ref(), depth + 1, ctx)
     }
 }
 
@@ -155,7 +174,9 @@ pub fn local_shading(
     let wo = wo.normalize();
     let ns = if si.ns.dot(wo) < 0.0 { -si.ns } else { si.ns };
     for light in &scene.lights {
-        let (wi, radiance, shadow_ray, t_max) = match *light {
+        // Direction and radiance first: the shadow ray is only built for a light that can reach
+        // this side of the surface.
+        let (wi, radiance, target) = match *light {
             Light::Point {
                 position,
                 intensity,
@@ -165,29 +186,23 @@ pub fn local_shading(
                 if d2 == 0.0 {
                     continue;
                 }
-                let wi = to_light / d2.sqrt();
-                let origin = offset_ray_origin(si.p, si.p_error, si.n, wi);
-                (
-                    wi,
-                    intensity / d2,
-                    Ray::new(origin, position - origin),
-                    1.0 - SHADOW_EPSILON,
-                )
+                (to_light / d2.sqrt(), intensity / d2, Some(position))
             }
             Light::Directional {
                 direction,
                 radiance,
-            } => {
-                let wi = -direction;
-                let origin = offset_ray_origin(si.p, si.p_error, si.n, wi);
-                (wi, radiance, Ray::new(origin, wi), f32::INFINITY)
-            }
+            } => (-direction, radiance, None),
         };
         let cos = ns.dot(wi);
         // A light behind the shading normal, or below the geometric surface, cannot light this side.
         if cos <= 0.0 || si.n.dot(wi) * si.n.dot(wo) <= 0.0 {
             continue;
         }
+        let origin = offset_ray_origin(si.p, si.p_error, si.n, wi);
+        let (shadow_ray, t_max) = match target {
+            Some(position) => (Ray::new(origin, position - origin), 1.0 - SHADOW_EPSILON),
+            None => (Ray::new(origin, wi), f32::INFINITY),
+        };
         ctx.rays.shadow += 1;
         if scene.occluded(&shadow_ray, t_max, &mut ctx.traversal) {
             continue;

@@ -5,7 +5,7 @@ pub mod integrator;
 pub mod optics;
 
 pub use film::{Film, PixelAov, MISS_ID};
-pub use integrator::{Integrator, Raycast, Whitted};
+pub use integrator::{surface_hit, Integrator, Raycast, SurfaceHit, Whitted};
 
 use crate::accel::TraversalStats;
 use crate::error::{Error, Result};
@@ -141,20 +141,21 @@ pub fn render_with<I: Integrator>(
                         let (dx, dy) = sample_offset(s);
                         let ray = scene.camera.ray(x as f32 + dx, y as f32 + dy);
                         ctx.rays.camera += 1;
-                        let hit = scene.intersect(&ray, f32::INFINITY, &mut ctx.traversal);
+                        let hit = scene
+                            .intersect(&ray, f32::INFINITY, &mut ctx.traversal)
+                            .map(|h| surface_hit(scene, &ray, h));
                         if s == 0 {
-                            if let Some(hit) = hit {
-                                let si = scene.geometry.interaction(&ray, &hit);
-                                let (shape_id, prim_id) = scene.geometry.source_ids(&hit);
+                            if let Some(h) = &hit {
+                                let (shape_id, prim_id) = scene.geometry.source_ids(&h.hit);
                                 aov = PixelAov {
-                                    depth: hit.t,
-                                    normal: si.ns,
+                                    depth: h.hit.t,
+                                    normal: h.si.ns,
                                     shape_id,
                                     prim_id,
                                 };
                             }
                         }
-                        sum += integrator.radiance(scene, &ray, hit, &mut ctx);
+                        sum += integrator.radiance(scene, &ray, hit.as_ref(), &mut ctx);
                     }
                     pixels.push((sum / spp as f32, aov));
                 }
@@ -167,23 +168,31 @@ pub fn render_with<I: Integrator>(
             Some((pixels, ctx))
         })
         .collect();
-    let mut film = Film::new(w, h);
     let mut stats = RenderStats::default();
-    for (tile, result) in tiles.iter().zip(results) {
+    let mut done_tiles = Vec::with_capacity(results.len());
+    for result in results {
         let Some((pixels, ctx)) = result else {
             return Err(Error::Cancelled);
         };
         stats.rays.merge(&ctx.rays);
         stats.traversal.merge(&ctx.traversal);
-        let mut it = pixels.into_iter();
-        for y in tile.y0..tile.y1 {
-            for x in tile.x0..tile.x1 {
-                if let Some((rgb, aov)) = it.next() {
-                    film.set(x, y, rgb, aov);
-                }
+        done_tiles.push(pixels);
+    }
+    // The film is filled in row order from the tiles of each band of rows: one pass, no clearing.
+    let mut film = Film::with_capacity(w, h);
+    let tiles_per_row = w.div_ceil(TILE_SIZE).max(1) as usize;
+    for (band, pixels) in tiles
+        .chunks(tiles_per_row)
+        .zip(done_tiles.chunks(tiles_per_row))
+    {
+        for row in 0..(band[0].y1 - band[0].y0) as usize {
+            for (tile, pixels) in band.iter().zip(pixels) {
+                let tw = (tile.x1 - tile.x0) as usize;
+                film.extend(&pixels[row * tw..(row + 1) * tw]);
             }
         }
     }
+    debug_assert_eq!(film.rgb.len(), w as usize * h as usize);
     stats.time = start.elapsed();
     Ok((film, stats))
 }

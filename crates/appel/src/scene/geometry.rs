@@ -210,13 +210,20 @@ impl Geometry {
     }
 
     pub fn interaction(&self, ray: &Ray, hit: &SceneHit) -> SurfaceInteraction {
+        self.interaction_with(ray, hit, true)
+    }
+
+    /// [`Self::interaction`]; surfaces whose texture coordinates are costly (spheres) skip them and
+    /// leave `uv` at zero unless `with_uv`.
+    #[inline]
+    pub fn interaction_with(&self, ray: &Ray, hit: &SceneHit, with_uv: bool) -> SurfaceInteraction {
         let ph = PrimHit {
             t: hit.t,
             u: hit.u,
             v: hit.v,
         };
         match &self.shapes[hit.shape as usize].kind {
-            ShapeKind::Sphere(s) => s.interaction(ray, &ph),
+            ShapeKind::Sphere(s) => s.interaction_with(ray, &ph, with_uv),
             ShapeKind::Plane(p) => p.interaction(ray, &ph),
             ShapeKind::Mesh(m) => self.meshes[*m as usize].interaction(hit.prim as usize, &ph),
             ShapeKind::Implicit(i) => {

@@ -57,6 +57,12 @@ impl Material {
         }
     }
 
+    /// Whether [`Self::albedo`] depends on `uv`: surfaces may skip computing it otherwise.
+    #[inline]
+    pub fn needs_uv(&self) -> bool {
+        self.checker.is_some()
+    }
+
     pub fn is_specular(&self) -> bool {
         self.reflection > 0.0 || self.transmission > 0.0
     }

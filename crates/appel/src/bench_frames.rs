@@ -1,0 +1,128 @@
+//! The real-time measurement behind `appel bench --scene NAME --frames N`: render the same scene N
+//! times, each frame from scratch (every ray traced again, a new film, nothing carried over), and
+//! report the frame time, frames per second and the rays of one frame by kind.
+
+use crate::error::{Error, Result};
+use crate::render::{render, RayCounts, RenderOptions};
+use crate::scene::Scene;
+use std::time::Instant;
+
+/// What `N` frames of one scene took.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct FrameBench {
+    pub scene: String,
+    pub accel: String,
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub max_depth: u32,
+    pub threads: usize,
+    pub frames: usize,
+    /// Median wall-clock time of one frame, in milliseconds.
+    pub frame_ms_median: f64,
+    pub frame_ms_min: f64,
+    pub frame_ms_max: f64,
+    /// `1000 / frame_ms_median`.
+    pub fps: f64,
+    /// Rays of one frame (the same in every frame: checked).
+    pub camera_rays: u64,
+    pub shadow_rays: u64,
+    pub reflection_rays: u64,
+    pub refraction_rays: u64,
+    pub rays_per_frame: u64,
+    /// Rays of one frame divided by the median frame time.
+    pub mrays_per_second: f64,
+}
+
+/// Renders `scene` `frames` times on `pool` and times every frame. `name` labels the result.
+pub fn bench_frames(
+    scene: &Scene,
+    name: &str,
+    frames: usize,
+    pool: &rayon::ThreadPool,
+) -> Result<FrameBench> {
+    if frames == 0 {
+        return Err(Error::Invalid("--frames must be at least 1".into()));
+    }
+    let options = RenderOptions::default();
+    let mut times = Vec::with_capacity(frames);
+    let mut rays: Option<RayCounts> = None;
+    for _ in 0..frames {
+        let start = Instant::now();
+        let (film, stats) = pool.install(|| render(scene, &options))?;
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+        // The film is part of the frame's work; keep the optimizer from dropping any of it.
+        std::hint::black_box(&film);
+        match rays {
+            None => rays = Some(stats.rays),
+            Some(r) if r != stats.rays => {
+                return Err(Error::Invalid(format!(
+                    "frames traced different rays ({r:?}, then {:?}): the renderer is not deterministic",
+                    stats.rays
+                )))
+            }
+            Some(_) => {}
+        }
+    }
+    let rays = rays.expect("at least one frame");
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    Ok(FrameBench {
+        scene: name.to_string(),
+        accel: scene.settings.accel.name().to_string(),
+        width: scene.camera.width,
+        height: scene.camera.height,
+        spp: scene.settings.spp,
+        max_depth: scene.settings.max_depth,
+        threads: pool.current_num_threads(),
+        frames,
+        frame_ms_median: median,
+        frame_ms_min: times[0],
+        frame_ms_max: times[times.len() - 1],
+        fps: 1e3 / median,
+        camera_rays: rays.camera,
+        shadow_rays: rays.shadow,
+        reflection_rays: rays.reflection,
+        refraction_rays: rays.refraction,
+        rays_per_frame: rays.total(),
+        mrays_per_second: rays.total() as f64 / median / 1e3,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::builtin::builtin_scene;
+    use crate::scene::description_from_str;
+    use crate::scene::parse::Syntax;
+    use std::path::Path;
+
+    fn whitted(w: u32, h: u32) -> Scene {
+        let text = builtin_scene("whitted").unwrap();
+        let mut d = description_from_str(text, Syntax::Toml, Path::new("whitted")).unwrap();
+        (d.camera.width, d.camera.height) = (w, h);
+        Scene::new(&d, Path::new(".")).unwrap()
+    }
+
+    #[test]
+    fn frames_report_the_rays_of_one_render_and_fps_from_the_median() {
+        let scene = whitted(64, 48);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let (_, once) = pool.install(|| render(&scene, &RenderOptions::default()).unwrap());
+        let b = bench_frames(&scene, "whitted", 5, &pool).unwrap();
+        assert_eq!(b.frames, 5);
+        assert_eq!((b.width, b.height, b.threads), (64, 48, 2));
+        assert_eq!(b.camera_rays, 64 * 48);
+        assert_eq!(b.shadow_rays, once.rays.shadow);
+        assert_eq!(b.reflection_rays, once.rays.reflection);
+        assert_eq!(b.refraction_rays, once.rays.refraction);
+        assert!(b.shadow_rays > 0 && b.reflection_rays > 0 && b.refraction_rays > 0);
+        assert_eq!(b.rays_per_frame, once.rays.total());
+        assert!(b.frame_ms_min <= b.frame_ms_median && b.frame_ms_median <= b.frame_ms_max);
+        assert!((b.fps * b.frame_ms_median - 1e3).abs() < 1e-6);
+        assert!(bench_frames(&scene, "whitted", 0, &pool).is_err());
+    }
+}
