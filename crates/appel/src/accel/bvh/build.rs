@@ -31,6 +31,9 @@ pub enum BvhSplit {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BvhOptions {
     pub split: BvhSplit,
+    /// Children per node: 2 (the binary tree as built), or 4 or 8 (collapsed, SIMD slab tests and
+    /// triangles tested four at a time).
+    pub width: usize,
     /// SAH bins per axis, clamped to `2..=32`.
     pub bins: usize,
     /// The largest leaf SAH may keep (it splits larger sets whatever the cost); at most 255.
@@ -47,6 +50,7 @@ impl Default for BvhOptions {
     fn default() -> Self {
         Self {
             split: BvhSplit::Sah,
+            width: 8,
             bins: 16,
             max_leaf: 8,
             leaf_size: 4,

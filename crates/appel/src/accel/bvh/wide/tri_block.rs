@@ -1,0 +1,298 @@
+//! Four triangles gathered into one leaf block, structure of arrays, and a SIMD filter that runs the
+//! watertight test's edge functions (Woop, Benthin & Wald 2013) on all four at once.
+//!
+//! The filter computes, lane by lane, exactly the floating-point operations of
+//! [`crate::geometry::triangle::watertight`] in the same order (no fused multiply-adds), and rejects
+//! a lane only where that function would certainly reject it: a ray outside the triangle's closed
+//! edges with no edge function exactly zero (which that function re-evaluates in f64), or a `t`
+//! outside its loosened range. Every surviving lane is decided by the scalar function itself, so a
+//! block reports exactly the hits that testing its triangles one by one reports, bit for bit.
+
+use crate::math::{Ray, Vec3};
+
+/// Four triangles (`v[3 * k + axis]` is coordinate `axis` of vertex `k`, one lane per triangle)
+/// and their primitive ids. Lanes of other primitives have NaN vertices and are called back; a
+/// leaf's last block repeats its lane 0 in its unused lanes, which at worst reports the same hit twice.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug)]
+pub struct TriBlock {
+    pub v: [[f32; 4]; 9],
+    pub id: [u32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<TriBlock>() == 160);
+
+impl TriBlock {
+    /// `lanes[i]` is a primitive id and its triangle, or `None` for a primitive that is called back.
+    pub fn new(lanes: &[(u32, Option<[Vec3; 3]>)]) -> Self {
+        assert!(!lanes.is_empty() && lanes.len() <= 4);
+        let mut b = TriBlock {
+            v: [[f32::NAN; 4]; 9],
+            id: [0; 4],
+        };
+        for lane in 0..4 {
+            let (id, tri) = lanes[if lane < lanes.len() { lane } else { 0 }];
+            b.id[lane] = id;
+            if let Some(tri) = tri {
+                for (k, p) in tri.iter().enumerate() {
+                    for a in 0..3 {
+                        b.v[3 * k + a][lane] = p[a];
+                    }
+                }
+            }
+        }
+        b
+    }
+
+    /// The triangle in `lane`, or `None` for a called-back primitive.
+    #[inline(always)]
+    pub fn triangle(&self, lane: usize) -> Option<[Vec3; 3]> {
+        let v = |k: usize| {
+            Vec3::new(
+                self.v[3 * k][lane],
+                self.v[3 * k + 1][lane],
+                self.v[3 * k + 2][lane],
+            )
+        };
+        let p0 = v(0);
+        (!p0.x.is_nan()).then(|| [p0, v(1), v(2)])
+    }
+}
+
+/// What the filter needs of a ray, computed once per ray: the watertight test's permutation (`kz`
+/// the axis of the largest direction component) and shear.
+#[derive(Clone, Copy, Debug)]
+pub struct RayTri {
+    k: [usize; 3],
+    o: [f32; 3],
+    s: [f32; 3],
+}
+
+impl RayTri {
+    #[inline(always)]
+    pub fn new(ray: &Ray) -> Self {
+        let ad = ray.dir.abs();
+        let kz = if ad.x > ad.y {
+            if ad.x > ad.z {
+                0
+            } else {
+                2
+            }
+        } else if ad.y > ad.z {
+            1
+        } else {
+            2
+        };
+        let kx = if kz == 2 { 0 } else { kz + 1 };
+        let ky = if kx == 2 { 0 } else { kx + 1 };
+        let d = ray.dir;
+        // A zero direction gives NaN shears: every lane survives the filter and the scalar test
+        // rejects it, as it rejects such a ray.
+        Self {
+            k: [kx, ky, kz],
+            o: [ray.origin[kx], ray.origin[ky], ray.origin[kz]],
+            s: [-d[kx] / d[kz], -d[ky] / d[kz], 1.0 / d[kz]],
+        }
+    }
+
+    /// Bit `i` is set if lane `i` may hit in `(0, t_max)`: the lanes to test one by one.
+    #[inline(always)]
+    pub fn candidates(&self, b: &TriBlock, t_max: f32) -> u32 {
+        #[cfg(target_arch = "x86_64")]
+        {
+            self.candidates_sse(b, t_max)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            self.candidates_scalar(b, t_max)
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn candidates_sse(&self, b: &TriBlock, t_max: f32) -> u32 {
+        use std::arch::x86_64::*;
+        // SAFETY: SSE and SSE2 are part of x86_64; the loads read 16-byte aligned `[f32; 4]` rows.
+        unsafe {
+            let ld = |k: usize, a: usize| _mm_load_ps(b.v[3 * k + self.k[a]].as_ptr());
+            let [ox, oy, oz] = self.o.map(|x| _mm_set1_ps(x));
+            let [sx, sy, sz] = self.s.map(|x| _mm_set1_ps(x));
+            // Translate to the ray origin, permute, shear (pbrt-v4 eq. 6.5 onwards).
+            let vert = |k: usize| {
+                let z = _mm_sub_ps(ld(k, 2), oz);
+                let x = _mm_add_ps(_mm_sub_ps(ld(k, 0), ox), _mm_mul_ps(sx, z));
+                let y = _mm_add_ps(_mm_sub_ps(ld(k, 1), oy), _mm_mul_ps(sy, z));
+                (x, y, z)
+            };
+            let (x0, y0, z0) = vert(0);
+            let (x1, y1, z1) = vert(1);
+            let (x2, y2, z2) = vert(2);
+            let edge = |ax, ay, bx, by| _mm_sub_ps(_mm_mul_ps(ax, by), _mm_mul_ps(ay, bx));
+            let e0 = edge(x1, y1, x2, y2);
+            let e1 = edge(x2, y2, x0, y0);
+            let e2 = edge(x0, y0, x1, y1);
+            let zero = _mm_setzero_ps();
+            let any_zero = _mm_or_ps(
+                _mm_or_ps(_mm_cmpeq_ps(e0, zero), _mm_cmpeq_ps(e1, zero)),
+                _mm_cmpeq_ps(e2, zero),
+            );
+            let any_neg = _mm_or_ps(
+                _mm_or_ps(_mm_cmplt_ps(e0, zero), _mm_cmplt_ps(e1, zero)),
+                _mm_cmplt_ps(e2, zero),
+            );
+            let any_pos = _mm_or_ps(
+                _mm_or_ps(_mm_cmpgt_ps(e0, zero), _mm_cmpgt_ps(e1, zero)),
+                _mm_cmpgt_ps(e2, zero),
+            );
+            let outside = _mm_and_ps(any_neg, any_pos);
+            let det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
+            let t_scaled = _mm_add_ps(
+                _mm_add_ps(
+                    _mm_mul_ps(e0, _mm_mul_ps(z0, sz)),
+                    _mm_mul_ps(e1, _mm_mul_ps(z1, sz)),
+                ),
+                _mm_mul_ps(e2, _mm_mul_ps(z2, sz)),
+            );
+            let loose = _mm_mul_ps(
+                _mm_mul_ps(_mm_set1_ps(t_max), det),
+                _mm_set1_ps(1.0 + 4.0 * f32::EPSILON),
+            );
+            let det_neg = _mm_cmplt_ps(det, zero);
+            let det_pos = _mm_cmpgt_ps(det, zero);
+            let reject_t = _mm_or_ps(
+                _mm_or_ps(
+                    _mm_cmpeq_ps(det, zero),
+                    _mm_and_ps(
+                        det_neg,
+                        _mm_or_ps(_mm_cmpge_ps(t_scaled, zero), _mm_cmplt_ps(t_scaled, loose)),
+                    ),
+                ),
+                _mm_and_ps(
+                    det_pos,
+                    _mm_or_ps(_mm_cmple_ps(t_scaled, zero), _mm_cmpgt_ps(t_scaled, loose)),
+                ),
+            );
+            let keep = _mm_or_ps(
+                any_zero,
+                _mm_andnot_ps(
+                    _mm_or_ps(outside, reject_t),
+                    _mm_castsi128_ps(_mm_set1_epi32(-1)),
+                ),
+            );
+            _mm_movemask_ps(keep) as u32
+        }
+    }
+
+    /// The same filter one lane at a time, for targets without the SSE path.
+    #[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+    fn candidates_scalar(&self, b: &TriBlock, t_max: f32) -> u32 {
+        let mut mask = 0;
+        for lane in 0..4 {
+            let ld = |k: usize, a: usize| b.v[3 * k + self.k[a]][lane];
+            let vert = |k: usize| {
+                let z = ld(k, 2) - self.o[2];
+                (
+                    ld(k, 0) - self.o[0] + self.s[0] * z,
+                    ld(k, 1) - self.o[1] + self.s[1] * z,
+                    z,
+                )
+            };
+            let (x0, y0, z0) = vert(0);
+            let (x1, y1, z1) = vert(1);
+            let (x2, y2, z2) = vert(2);
+            let e0 = x1 * y2 - y1 * x2;
+            let e1 = x2 * y0 - y2 * x0;
+            let e2 = x0 * y1 - y0 * x1;
+            let any_zero = e0 == 0.0 || e1 == 0.0 || e2 == 0.0;
+            let outside = (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0);
+            let det = e0 + e1 + e2;
+            let sz = self.s[2];
+            let t_scaled = e0 * (z0 * sz) + e1 * (z1 * sz) + e2 * (z2 * sz);
+            let loose = t_max * det * (1.0 + 4.0 * f32::EPSILON);
+            let reject_t = det == 0.0
+                || (det < 0.0 && (t_scaled >= 0.0 || t_scaled < loose))
+                || (det > 0.0 && (t_scaled <= 0.0 || t_scaled > loose));
+            if any_zero || !(outside || reject_t) {
+                mask |= 1 << lane;
+            }
+        }
+        mask
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::triangle::watertight;
+
+    fn lcg(s: &mut u64) -> f32 {
+        *s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((*s >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    }
+
+    /// The filter never drops a lane the scalar test hits, the SSE and scalar filters agree, and
+    /// it rejects most misses (else it would be no filter).
+    #[test]
+    fn filter_keeps_every_hit_and_rejects_most_misses() {
+        let mut s = 7u64;
+        let (mut hits, mut kept, mut total) = (0, 0, 0);
+        for i in 0..20_000 {
+            let p = |s: &mut u64| Vec3::new(lcg(s), lcg(s), lcg(s));
+            let tris: Vec<[Vec3; 3]> = (0..4).map(|_| [p(&mut s), p(&mut s), p(&mut s)]).collect();
+            // Some rays along axes, some through shared vertices, most random.
+            let dir = match i % 5 {
+                0 => Vec3::X,
+                1 => -Vec3::Z,
+                _ => p(&mut s),
+            };
+            let origin = if i % 7 == 0 {
+                tris[0][1] - dir
+            } else {
+                p(&mut s) * 2.0
+            };
+            let ray = Ray::new(origin, dir);
+            let lanes: Vec<_> = tris
+                .iter()
+                .enumerate()
+                .map(|(k, t)| (k as u32, Some(*t)))
+                .collect();
+            let b = TriBlock::new(&lanes);
+            let rt = RayTri::new(&ray);
+            let t_max = if i % 3 == 0 { 1.5 } else { f32::INFINITY };
+            let mask = rt.candidates(&b, t_max);
+            assert_eq!(mask, rt.candidates_scalar(&b, t_max));
+            for (k, t) in tris.iter().enumerate() {
+                total += 1;
+                kept += (mask >> k) & 1;
+                if watertight(&ray, t_max, t[0], t[1], t[2]).is_some() {
+                    hits += 1;
+                    assert!(
+                        mask & (1 << k) != 0,
+                        "ray {i} lane {k}: a hit was filtered out"
+                    );
+                }
+            }
+        }
+        assert!(hits > 1000, "{hits}");
+        // Survivors are the hits and the rare exactly-zero edge; nearly every miss is filtered.
+        assert!(
+            kept < hits + total / 100,
+            "kept {kept} of {total}, {hits} hits"
+        );
+    }
+
+    #[test]
+    fn padding_repeats_lane_zero_and_other_primitives_are_nan() {
+        let t = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let b = TriBlock::new(&[(5, Some(t)), (9, None)]);
+        assert_eq!(b.id, [5, 9, 5, 5]);
+        assert_eq!(b.triangle(0), Some(t));
+        assert_eq!(b.triangle(1), None);
+        assert_eq!(b.triangle(3), Some(t));
+        let r = Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
+        // The called-back lane always survives; the triangle lanes hit.
+        assert_eq!(RayTri::new(&r).candidates(&b, f32::INFINITY), 0b1111);
+    }
+}
