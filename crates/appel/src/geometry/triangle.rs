@@ -82,8 +82,10 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
         return None;
     }
     let det = e0 + e1 + e2;
-    if det == 0.0 {
-        // Degenerate triangle, or a ray in its plane: never a hit.
+    if det == 0.0 || !det.is_finite() {
+        // Degenerate triangle, or a ray in its plane: never a hit. Edge functions that overflow
+        // (vertices near f32's range) give an infinite or NaN determinant, which would make `t`
+        // NaN.
         return None;
     }
 
@@ -199,6 +201,25 @@ mod tests {
             assert_eq!(both(&r, f32::INFINITY), [None, None]);
         }
         assert_eq!(both(&far, 2.5), [None, None]);
+    }
+
+    /// Edge functions that overflow f32 once made the determinant NaN, and a NaN `t` passed every
+    /// range check: such a triangle must be a miss, not a hit at NaN.
+    #[test]
+    fn overflowing_edge_functions_are_a_miss_not_a_nan_hit() {
+        let c = Vec3::new(2e31, 0.0, 0.0);
+        let s = 2e30;
+        let (p0, p1, p2) = (
+            c,
+            c + Vec3::new(0.5, 1.0, 0.0) * s,
+            c + Vec3::new(0.0, 0.3, 1.0) * s,
+        );
+        let r = Ray::new(Vec3::new(-0.2, -0.3, 0.7), Vec3::new(-1.0, -0.1, -0.8));
+        assert_eq!(watertight(&r, f32::INFINITY, p0, p1, p2), None);
+        let toward = Ray::new(Vec3::ZERO, (p0 + p1 + p2) / 3.0);
+        if let Some(h) = watertight(&toward, f32::INFINITY, p0, p1, p2) {
+            assert!(h.t.is_finite());
+        }
     }
 
     #[test]

@@ -133,7 +133,7 @@ impl Bvh {
                 };
                 if n.is_leaf() {
                     leaves += 1;
-                    cost += rel * o.intersect_cost as f64 * n.count as f64;
+                    cost += rel * o.intersect_cost as f64 * o.blocks(n.count as u32) as f64;
                 } else {
                     interior += 1;
                     cost += rel * o.traversal_cost as f64;

@@ -291,6 +291,49 @@ mod tests {
         }
     }
 
+    /// Chain-like trees (midpoint splits peel the farthest triangle off, one level at a time)
+    /// through the traversal with the large stack, which only trees deeper than any seen in
+    /// practice take: it must answer like brute force too.
+    #[test]
+    fn the_deep_traversal_agrees_with_brute_force() {
+        let tris: Vec<[Vec3; 3]> = (0..400)
+            .map(|i| {
+                let x = 1.05f32.powi(i);
+                let c = Vec3::new(x, 0.0, 0.0);
+                let s = 0.1 * x;
+                [
+                    c,
+                    c + Vec3::new(0.5, 1.0, 0.0) * s,
+                    c + Vec3::new(0.0, 0.3, 1.0) * s,
+                ]
+            })
+            .collect();
+        let m = crate::accel::testutil::mesh(tris);
+        let p = prims(&m);
+        let opts = BvhOptions {
+            split: crate::accel::BvhSplit::Midpoint,
+            ..Default::default()
+        };
+        let bvh = Bvh::build_with(&p, opts);
+        let Wide::W8(w) = &bvh.wide else {
+            panic!("not 8 wide")
+        };
+        let rays: Vec<Ray> = (0..400)
+            .map(|i| {
+                let x = 1.05f32.powi(i);
+                Ray::new(Vec3::new(x * 1.015, 0.04 * x, -3.0), Vec3::Z)
+            })
+            .chain(rays(200, 5))
+            .collect();
+        let hits = agrees_with_brute(
+            &p,
+            &rays,
+            |r, t, s| w.traverse_deep::<_, false, false>(&p, r, t, s),
+            |r, t, s| w.traverse_deep::<_, true, false>(&p, r, t, s).is_some(),
+        );
+        assert!(hits > 300, "{hits}");
+    }
+
     #[test]
     fn wide_stats_count_nodes_blocks_and_tests() {
         let m = soup(2000, 9);

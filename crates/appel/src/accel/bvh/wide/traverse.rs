@@ -203,15 +203,27 @@ impl<const W: usize> WideBvh<W> {
         t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
-        let need = stack_need::<W>(self.depth);
-        if need <= 128 {
+        if stack_need::<W>(self.depth) <= 128 {
             self.traverse_with::<P, ANY, AVX, 128>(prims, ray, t_max, stats)
         } else {
-            // The builder bounds the depth (a forced median split past depth 64), so this
-            // always suffices.
-            debug_assert!(need <= 1024);
-            self.traverse_with::<P, ANY, AVX, 1024>(prims, ray, t_max, stats)
+            self.traverse_deep::<P, ANY, AVX>(prims, ray, t_max, stats)
         }
+    }
+
+    /// Trees deeper than the common case get their own function, so that the common one keeps a
+    /// small stack frame.
+    #[inline(never)]
+    pub(super) fn traverse_deep<P: Primitives, const ANY: bool, const AVX: bool>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        // The builder bounds the depth (a forced median split past depth 64), so this always
+        // suffices.
+        debug_assert!(stack_need::<W>(self.depth) <= 1024);
+        self.traverse_with::<P, ANY, AVX, 1024>(prims, ray, t_max, stats)
     }
 
     #[inline(always)]
