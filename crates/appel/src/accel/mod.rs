@@ -97,6 +97,14 @@ impl AccelKind {
     }
 }
 
+/// Build parameters of every structure; [`Accel::build_with`] uses the ones of the kind it builds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AccelOptions {
+    pub bvh: BvhOptions,
+    pub grid: GridOptions,
+    pub kdtree: KdOptions,
+}
+
 /// A built acceleration structure.
 #[derive(Clone, Debug)]
 pub enum Accel {
@@ -108,11 +116,15 @@ pub enum Accel {
 
 impl Accel {
     pub fn build<P: Primitives>(kind: AccelKind, prims: &P) -> Self {
+        Self::build_with(kind, prims, &AccelOptions::default())
+    }
+
+    pub fn build_with<P: Primitives>(kind: AccelKind, prims: &P, o: &AccelOptions) -> Self {
         match kind {
             AccelKind::Brute => Accel::Brute(Brute::build(prims)),
-            AccelKind::Grid => Accel::Grid(Grid::build(prims)),
-            AccelKind::KdTree => Accel::KdTree(KdTree::build(prims)),
-            AccelKind::Bvh => Accel::Bvh(Bvh::build(prims)),
+            AccelKind::Grid => Accel::Grid(Grid::build_with(prims, o.grid)),
+            AccelKind::KdTree => Accel::KdTree(KdTree::build_with(prims, o.kdtree)),
+            AccelKind::Bvh => Accel::Bvh(Bvh::build_with(prims, o.bvh)),
         }
     }
 

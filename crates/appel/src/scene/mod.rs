@@ -19,7 +19,7 @@ pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind, ShapeSource};
 pub use light::Light;
 pub use material::{Checker, Material};
 
-use crate::accel::{Accel, AccelKind, AccelStats, TraversalStats};
+use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
 use crate::error::{Error, Location, Result};
 use crate::geometry::{
     Implicit, ObjectTransform, Plane, Sphere, Torus, TriangleMesh, TriangleTest,
@@ -42,6 +42,31 @@ pub struct RenderSettings {
     pub max_depth: u32,
     pub spp: u32,
     pub accel: AccelKind,
+    /// `[render.bvh]`, `[render.grid]`, `[render.kdtree]`.
+    pub accel_options: AccelOptions,
+}
+
+/// The structures' build parameters a (validated) `[render]` table sets.
+fn accel_options(r: &description::RenderDesc) -> AccelOptions {
+    let mut o = AccelOptions::default();
+    if let Some(b) = &r.bvh {
+        if let Some(split) = b.split.as_deref().and_then(BvhSplit::from_name) {
+            o.bvh.split = split;
+        }
+        o.bvh.width = b.width.map_or(o.bvh.width, |w| w as usize);
+        o.bvh.bins = b.bins.map_or(o.bvh.bins, |v| v as usize);
+        o.bvh.max_leaf = b.max_leaf.map_or(o.bvh.max_leaf, |v| v as usize);
+        o.bvh.leaf_size = o.bvh.leaf_size.min(o.bvh.max_leaf);
+    }
+    if let Some(d) = r.grid.as_ref().and_then(|g| g.density) {
+        o.grid.density = d;
+    }
+    if let Some(k) = &r.kdtree {
+        o.kdtree.intersect_cost = k.intersect_cost.unwrap_or(o.kdtree.intersect_cost);
+        o.kdtree.empty_bonus = k.empty_bonus.unwrap_or(o.kdtree.empty_bonus);
+        o.kdtree.max_depth = k.max_depth.map(|d| d as usize).or(o.kdtree.max_depth);
+    }
+    o
 }
 
 /// How long building the scene took, phase by phase.
@@ -158,6 +183,7 @@ impl Scene {
                     d.render.accel
                 ))
             })?,
+            accel_options: accel_options(&d.render),
         };
         let triangle_test = match d.render.triangle.as_str() {
             "moller" => TriangleTest::Moller,
@@ -251,7 +277,7 @@ impl Scene {
         }
         let load = load_start.elapsed();
         let build_start = Instant::now();
-        let accel = Accel::build(settings.accel, &geometry);
+        let accel = Accel::build_with(settings.accel, &geometry, &settings.accel_options);
         let build = build_start.elapsed();
         Ok(Scene {
             camera: Camera::new(&d.camera),

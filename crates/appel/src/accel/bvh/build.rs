@@ -26,6 +26,19 @@ pub enum BvhSplit {
     Median,
 }
 
+impl BvhSplit {
+    pub const NAMES: &'static [&'static str] = &["sah", "midpoint", "median"];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "sah" => Some(Self::Sah),
+            "midpoint" => Some(Self::Midpoint),
+            "median" => Some(Self::Median),
+            _ => None,
+        }
+    }
+}
+
 /// Build parameters. The SAH cost of a node is `traversal_cost + intersect_cost * (n_l * A_l + n_r *
 /// A_r) / A` against `intersect_cost * n` for making it a leaf.
 #[derive(Clone, Copy, Debug, PartialEq)]
