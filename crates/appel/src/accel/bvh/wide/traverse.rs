@@ -294,11 +294,27 @@ impl<const W: usize> WideBvh<W> {
             } else {
                 let (first, count) = node::leaf_range(cur);
                 stats.prim_tests += count as u64;
-                for b in &self.blocks[first..first + count.div_ceil(4)] {
-                    let mut m = rt.candidates(b, t_max);
+                let blocks = &self.blocks[first..first + count.div_ceil(4)];
+                let mut at = 0;
+                while at < blocks.len() {
+                    // Two blocks per AVX filter where the leaf has them.
+                    let (mut m, step) = if AVX && at + 1 < blocks.len() {
+                        #[cfg(target_arch = "x86_64")]
+                        // SAFETY: `AVX` is true only inside `traverse_avx2`.
+                        let m =
+                            unsafe { rt.candidates_pair_avx2(&blocks[at], &blocks[at + 1], t_max) };
+                        #[cfg(not(target_arch = "x86_64"))]
+                        let m = unreachable!("AVX traversal on a target without it");
+                        (m, 2)
+                    } else {
+                        (rt.candidates(&blocks[at], t_max), 1)
+                    };
+                    let pair = &blocks[at..at + step];
+                    at += step;
                     while m != 0 {
-                        let lane = m.trailing_zeros() as usize;
+                        let bit = m.trailing_zeros() as usize;
                         m &= m - 1;
+                        let (b, lane) = (&pair[bit / 4], bit % 4);
                         let id = b.id[lane];
                         let h = match b.triangle(lane) {
                             Some([p0, p1, p2]) => watertight(ray, t_max, p0, p1, p2),

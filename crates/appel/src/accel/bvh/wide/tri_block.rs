@@ -59,6 +59,195 @@ impl TriBlock {
     }
 }
 
+/// The filter's body over any lane width: `$row(r)` loads row `r` of the block(s). Each step is
+/// the scalar test's operation, in its order.
+#[cfg(target_arch = "x86_64")]
+macro_rules! filter {
+    ($rt:expr, $t_max:expr, $row:expr) => {{
+        let rt: &RayTri = $rt;
+        let row = $row;
+        let ld = |k: usize, a: usize| row(3 * k + rt.k[a]);
+        let [ox, oy, oz] = rt.o.map(|x| splat(x));
+        let [sx, sy, sz] = rt.s.map(|x| splat(x));
+        // Translate to the ray origin, permute, shear (pbrt-v4 eq. 6.5 onwards).
+        let vert = |k: usize| {
+            let z = sub(ld(k, 2), oz);
+            let x = add(sub(ld(k, 0), ox), mul(sx, z));
+            let y = add(sub(ld(k, 1), oy), mul(sy, z));
+            (x, y, z)
+        };
+        let (x0, y0, z0) = vert(0);
+        let (x1, y1, z1) = vert(1);
+        let (x2, y2, z2) = vert(2);
+        let edge = |ax, ay, bx, by| sub(mul(ax, by), mul(ay, bx));
+        let e0 = edge(x1, y1, x2, y2);
+        let e1 = edge(x2, y2, x0, y0);
+        let e2 = edge(x0, y0, x1, y1);
+        let zero = splat(0.0);
+        let any_zero = or(or(eq(e0, zero), eq(e1, zero)), eq(e2, zero));
+        let any_neg = or(or(lt(e0, zero), lt(e1, zero)), lt(e2, zero));
+        let any_pos = or(or(gt(e0, zero), gt(e1, zero)), gt(e2, zero));
+        let outside = and(any_neg, any_pos);
+        let det = add(add(e0, e1), e2);
+        let t_scaled = add(
+            add(mul(e0, mul(z0, sz)), mul(e1, mul(z1, sz))),
+            mul(e2, mul(z2, sz)),
+        );
+        let loose = mul(mul(splat($t_max), det), splat(1.0 + 4.0 * f32::EPSILON));
+        let reject_t = or(
+            or(
+                eq(det, zero),
+                and(lt(det, zero), or(ge(t_scaled, zero), lt(t_scaled, loose))),
+            ),
+            and(gt(det, zero), or(le(t_scaled, zero), gt(t_scaled, loose))),
+        );
+        mask(or(any_zero, not(or(outside, reject_t))))
+    }};
+}
+
+/// The vector operations of [`filter!`], in SSE (4 lanes) and AVX (8 lanes). Comparisons are the
+/// ordered ones (false when either operand is NaN), like Rust's scalar comparisons.
+#[cfg(target_arch = "x86_64")]
+mod simd {
+    pub mod sse {
+        use std::arch::x86_64::*;
+        type V = __m128;
+        #[inline(always)]
+        pub unsafe fn load(p: *const f32) -> V {
+            _mm_load_ps(p)
+        }
+        #[inline(always)]
+        pub unsafe fn splat(x: f32) -> V {
+            _mm_set1_ps(x)
+        }
+        #[inline(always)]
+        pub unsafe fn add(a: V, b: V) -> V {
+            _mm_add_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn sub(a: V, b: V) -> V {
+            _mm_sub_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn mul(a: V, b: V) -> V {
+            _mm_mul_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn eq(a: V, b: V) -> V {
+            _mm_cmpeq_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn lt(a: V, b: V) -> V {
+            _mm_cmplt_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn le(a: V, b: V) -> V {
+            _mm_cmple_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn gt(a: V, b: V) -> V {
+            _mm_cmpgt_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn ge(a: V, b: V) -> V {
+            _mm_cmpge_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn or(a: V, b: V) -> V {
+            _mm_or_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn and(a: V, b: V) -> V {
+            _mm_and_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn not(a: V) -> V {
+            _mm_xor_ps(a, _mm_castsi128_ps(_mm_set1_epi32(-1)))
+        }
+        #[inline(always)]
+        pub unsafe fn mask(a: V) -> u32 {
+            _mm_movemask_ps(a) as u32
+        }
+    }
+
+    /// Callers must have AVX2 (every function here is compiled for it).
+    pub mod avx {
+        use std::arch::x86_64::*;
+        type V = __m256;
+        /// Lanes 0-3 from `lo`, 4-7 from `hi`.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn load2(hi: *const f32, lo: *const f32) -> V {
+            _mm256_loadu2_m128(hi, lo)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn splat(x: f32) -> V {
+            _mm256_set1_ps(x)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn add(a: V, b: V) -> V {
+            _mm256_add_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn sub(a: V, b: V) -> V {
+            _mm256_sub_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn mul(a: V, b: V) -> V {
+            _mm256_mul_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn eq(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_EQ_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn lt(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_LT_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn le(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_LE_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn gt(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_GT_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn ge(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_GE_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn or(a: V, b: V) -> V {
+            _mm256_or_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn and(a: V, b: V) -> V {
+            _mm256_and_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn not(a: V) -> V {
+            _mm256_xor_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(-1)))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn mask(a: V) -> u32 {
+            _mm256_movemask_ps(a) as u32
+        }
+    }
+}
+
 /// What the filter needs of a ray, computed once per ray: the watertight test's permutation (`kz`
 /// the axis of the largest direction component) and shear.
 #[derive(Clone, Copy, Debug)]
@@ -111,76 +300,26 @@ impl RayTri {
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn candidates_sse(&self, b: &TriBlock, t_max: f32) -> u32 {
-        use std::arch::x86_64::*;
         // SAFETY: SSE and SSE2 are part of x86_64; the loads read 16-byte aligned `[f32; 4]` rows.
         unsafe {
-            let ld = |k: usize, a: usize| _mm_load_ps(b.v[3 * k + self.k[a]].as_ptr());
-            let [ox, oy, oz] = self.o.map(|x| _mm_set1_ps(x));
-            let [sx, sy, sz] = self.s.map(|x| _mm_set1_ps(x));
-            // Translate to the ray origin, permute, shear (pbrt-v4 eq. 6.5 onwards).
-            let vert = |k: usize| {
-                let z = _mm_sub_ps(ld(k, 2), oz);
-                let x = _mm_add_ps(_mm_sub_ps(ld(k, 0), ox), _mm_mul_ps(sx, z));
-                let y = _mm_add_ps(_mm_sub_ps(ld(k, 1), oy), _mm_mul_ps(sy, z));
-                (x, y, z)
-            };
-            let (x0, y0, z0) = vert(0);
-            let (x1, y1, z1) = vert(1);
-            let (x2, y2, z2) = vert(2);
-            let edge = |ax, ay, bx, by| _mm_sub_ps(_mm_mul_ps(ax, by), _mm_mul_ps(ay, bx));
-            let e0 = edge(x1, y1, x2, y2);
-            let e1 = edge(x2, y2, x0, y0);
-            let e2 = edge(x0, y0, x1, y1);
-            let zero = _mm_setzero_ps();
-            let any_zero = _mm_or_ps(
-                _mm_or_ps(_mm_cmpeq_ps(e0, zero), _mm_cmpeq_ps(e1, zero)),
-                _mm_cmpeq_ps(e2, zero),
-            );
-            let any_neg = _mm_or_ps(
-                _mm_or_ps(_mm_cmplt_ps(e0, zero), _mm_cmplt_ps(e1, zero)),
-                _mm_cmplt_ps(e2, zero),
-            );
-            let any_pos = _mm_or_ps(
-                _mm_or_ps(_mm_cmpgt_ps(e0, zero), _mm_cmpgt_ps(e1, zero)),
-                _mm_cmpgt_ps(e2, zero),
-            );
-            let outside = _mm_and_ps(any_neg, any_pos);
-            let det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
-            let t_scaled = _mm_add_ps(
-                _mm_add_ps(
-                    _mm_mul_ps(e0, _mm_mul_ps(z0, sz)),
-                    _mm_mul_ps(e1, _mm_mul_ps(z1, sz)),
-                ),
-                _mm_mul_ps(e2, _mm_mul_ps(z2, sz)),
-            );
-            let loose = _mm_mul_ps(
-                _mm_mul_ps(_mm_set1_ps(t_max), det),
-                _mm_set1_ps(1.0 + 4.0 * f32::EPSILON),
-            );
-            let det_neg = _mm_cmplt_ps(det, zero);
-            let det_pos = _mm_cmpgt_ps(det, zero);
-            let reject_t = _mm_or_ps(
-                _mm_or_ps(
-                    _mm_cmpeq_ps(det, zero),
-                    _mm_and_ps(
-                        det_neg,
-                        _mm_or_ps(_mm_cmpge_ps(t_scaled, zero), _mm_cmplt_ps(t_scaled, loose)),
-                    ),
-                ),
-                _mm_and_ps(
-                    det_pos,
-                    _mm_or_ps(_mm_cmple_ps(t_scaled, zero), _mm_cmpgt_ps(t_scaled, loose)),
-                ),
-            );
-            let keep = _mm_or_ps(
-                any_zero,
-                _mm_andnot_ps(
-                    _mm_or_ps(outside, reject_t),
-                    _mm_castsi128_ps(_mm_set1_epi32(-1)),
-                ),
-            );
-            _mm_movemask_ps(keep) as u32
+            use simd::sse::*;
+            filter!(self, t_max, |row: usize| load(b.v[row].as_ptr()))
         }
+    }
+
+    /// [`Self::candidates`] of two blocks at once in AVX: bits 0-3 are `a`'s lanes, 4-7 `b`'s.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn candidates_pair_avx2(&self, a: &TriBlock, b: &TriBlock, t_max: f32) -> u32 {
+        use simd::avx::*;
+        filter!(self, t_max, |row: usize| load2(
+            b.v[row].as_ptr(),
+            a.v[row].as_ptr()
+        ))
     }
 
     /// The same filter one lane at a time, for targets without the SSE path.
@@ -263,6 +402,13 @@ mod tests {
             let t_max = if i % 3 == 0 { 1.5 } else { f32::INFINITY };
             let mask = rt.candidates(&b, t_max);
             assert_eq!(mask, rt.candidates_scalar(&b, t_max));
+            #[cfg(target_arch = "x86_64")]
+            if std::is_x86_feature_detected!("avx2") {
+                let other = TriBlock::new(&lanes[1..]);
+                // SAFETY: the CPU has AVX2.
+                let pair = unsafe { rt.candidates_pair_avx2(&b, &other, t_max) };
+                assert_eq!(pair, mask | rt.candidates(&other, t_max) << 4);
+            }
             for (k, t) in tris.iter().enumerate() {
                 total += 1;
                 kept += (mask >> k) & 1;
