@@ -309,6 +309,12 @@ impl<const W: usize> WideBvh<W> {
                     } else {
                         (rt.candidates(&blocks[at], t_max), 1)
                     };
+                    // The last block's unused lanes repeat lane 0: skip them (a called-back
+                    // primitive there would be tested twice).
+                    let lanes = count - 4 * at;
+                    if lanes < 8 {
+                        m &= (1 << lanes) - 1;
+                    }
                     let pair = &blocks[at..at + step];
                     at += step;
                     while m != 0 {

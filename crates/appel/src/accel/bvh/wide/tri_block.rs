@@ -12,7 +12,8 @@ use crate::math::{Ray, Vec3};
 
 /// Four triangles (`v[3 * k + axis]` is coordinate `axis` of vertex `k`, one lane per triangle)
 /// and their primitive ids. Lanes of other primitives have NaN vertices and are called back; a
-/// leaf's last block repeats its lane 0 in its unused lanes, which at worst reports the same hit twice.
+/// leaf's last block repeats its lane 0 in its unused lanes, which traversal masks off by the
+/// leaf's primitive count.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug)]
 pub struct TriBlock {
