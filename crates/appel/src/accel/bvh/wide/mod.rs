@@ -26,6 +26,8 @@ pub struct WideBvh<const W: usize> {
 
 /// A leaf's primitives before their vertices are gathered: a range of the binary tree's index array.
 struct LeafRange {
+    /// The wide node and lane whose slot points at this leaf.
+    slot: (u32, u8),
     first_index: u32,
     count: u32,
 }
@@ -48,7 +50,7 @@ impl<const W: usize> WideBvh<W> {
             c.nodes.push(WideNode::EMPTY);
             if nodes[0].is_leaf() {
                 c.depth = 1;
-                let child = c.leaf(&nodes[0]);
+                let child = c.leaf(&nodes[0], (0, 0));
                 c.nodes[0].set(0, nodes[0].min, nodes[0].max, child);
             } else {
                 c.fill(0, 0, 1);
@@ -73,16 +75,25 @@ impl<const W: usize> WideBvh<W> {
             runs.push((l, run));
             rest = tail;
         }
-        runs.into_par_iter().for_each(|(l, run)| {
-            let ids = &indices[l.first_index as usize..][..l.count as usize];
-            for (chunk, block) in ids.chunks(4).zip(run.iter_mut()) {
-                let lanes: Vec<(u32, _)> = chunk
-                    .iter()
-                    .map(|&id| (id, prims.watertight_triangle(id as usize)))
-                    .collect();
-                *block = TriBlock::new(&lanes);
-            }
-        });
+        let no_triangles: Vec<bool> = runs
+            .into_par_iter()
+            .map(|(l, run)| {
+                let ids = &indices[l.first_index as usize..][..l.count as usize];
+                let mut any_triangle = false;
+                for (chunk, block) in ids.chunks(4).zip(run.iter_mut()) {
+                    let lanes: Vec<(u32, _)> = chunk
+                        .iter()
+                        .map(|&id| (id, prims.watertight_triangle(id as usize)))
+                        .collect();
+                    any_triangle |= lanes.iter().any(|(_, t)| t.is_some());
+                    *block = TriBlock::new(&lanes);
+                }
+                !any_triangle
+            })
+            .collect();
+        for (l, _) in c.leaves.iter().zip(no_triangles).filter(|(_, none)| *none) {
+            c.nodes[l.slot.0 as usize].child[l.slot.1 as usize] |= node::NO_TRIANGLES;
+        }
         Self {
             nodes: c.nodes,
             blocks,
@@ -125,9 +136,10 @@ struct Collapse<'a, const W: usize> {
 }
 
 impl<const W: usize> Collapse<'_, W> {
-    fn leaf(&mut self, n: &BvhNode) -> node::Child {
+    fn leaf(&mut self, n: &BvhNode, slot: (usize, usize)) -> node::Child {
         let first_block = self.blocks as u32;
         self.leaves.push(LeafRange {
+            slot: (slot.0 as u32, slot.1 as u8),
             first_index: n.offset,
             count: n.count as u32,
         });
@@ -158,7 +170,7 @@ impl<const W: usize> Collapse<'_, W> {
         for (lane, &k) in kids[..len].iter().enumerate() {
             let n = &bin[k];
             let child = if n.is_leaf() {
-                self.leaf(n)
+                self.leaf(n, (me, lane))
             } else {
                 let idx = self.nodes.len();
                 self.nodes.push(WideNode::EMPTY);
@@ -267,6 +279,44 @@ mod tests {
         fn watertight_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
             i.is_multiple_of(2).then(|| self.0.mesh.vertices(i))
         }
+    }
+
+    /// Moller-Trumbore triangles are not gathered: every leaf is called back, without the filter.
+    #[test]
+    fn leaves_without_triangles_are_flagged_and_agree() {
+        let m = soup(2000, 6);
+        let p = MeshPrimitives {
+            mesh: &m,
+            test: crate::geometry::TriangleTest::Moller,
+        };
+        let bvh = Bvh::build(&p);
+        let Wide::W8(w) = &bvh.wide else {
+            panic!("not 8 wide")
+        };
+        let leaves = w
+            .nodes
+            .iter()
+            .flat_map(|n| n.child)
+            .filter(|&c| c != node::EMPTY && node::is_leaf(c));
+        assert!(leaves.clone().count() > 100);
+        assert!(leaves.into_iter().all(|c| c & node::NO_TRIANGLES != 0));
+        let hits = agrees_with_brute(
+            &p,
+            &rays(400, 8),
+            |r, t, s| bvh.intersect(&p, r, t, s),
+            |r, t, s| bvh.occluded(&p, r, t, s),
+        );
+        assert!(hits > 100, "{hits}");
+        // Watertight triangles are gathered: no leaf is flagged.
+        let tri = prims(&m);
+        let Wide::W8(w) = &Bvh::build(&tri).wide else {
+            panic!("not 8 wide")
+        };
+        assert!(w
+            .nodes
+            .iter()
+            .flat_map(|n| n.child)
+            .all(|c| c == node::EMPTY || c & node::NO_TRIANGLES == 0));
     }
 
     #[test]

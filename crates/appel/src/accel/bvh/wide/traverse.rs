@@ -7,7 +7,7 @@
 //! on other targets.
 
 use super::node::{self, Child, WideNode};
-use super::tri_block::RayTri;
+use super::tri_block::{RayTri, TriBlock};
 use super::WideBvh;
 use crate::accel::bvh::far_scale;
 use crate::accel::{Hit, Primitives, TraversalStats};
@@ -235,7 +235,8 @@ impl<const W: usize> WideBvh<W> {
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
         let rb = RayBoxes::new(ray);
-        let rt = RayTri::new(ray);
+        // The triangle filter's set-up (three divisions) waits for the first leaf with triangles.
+        let mut rt: Option<RayTri> = None;
         let far = rb.far_scale;
         // Boxes are culled against a slightly larger distance than the best hit, so that rounding in
         // the box test never culls a primitive whose own test would report a nearer hit.
@@ -295,38 +296,11 @@ impl<const W: usize> WideBvh<W> {
                 let (first, count) = node::leaf_range(cur);
                 stats.prim_tests += count as u64;
                 let blocks = &self.blocks[first..first + count.div_ceil(4)];
-                let mut at = 0;
-                while at < blocks.len() {
-                    // Two blocks per AVX filter where the leaf has them.
-                    let (mut m, step) = if AVX && at + 1 < blocks.len() {
-                        #[cfg(target_arch = "x86_64")]
-                        // SAFETY: `AVX` is true only inside `traverse_avx2`.
-                        let m =
-                            unsafe { rt.candidates_pair_avx2(&blocks[at], &blocks[at + 1], t_max) };
-                        #[cfg(not(target_arch = "x86_64"))]
-                        let m = unreachable!("AVX traversal on a target without it");
-                        (m, 2)
-                    } else {
-                        (rt.candidates(&blocks[at], t_max), 1)
-                    };
-                    // The last block's unused lanes repeat lane 0: skip them (a called-back
-                    // primitive there would be tested twice).
-                    let lanes = count - 4 * at;
-                    if lanes < 8 {
-                        m &= (1 << lanes) - 1;
-                    }
-                    let pair = &blocks[at..at + step];
-                    at += step;
-                    while m != 0 {
-                        let bit = m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        let (b, lane) = (&pair[bit / 4], bit % 4);
-                        let id = b.id[lane];
-                        let h = match b.triangle(lane) {
-                            Some([p0, p1, p2]) => watertight(ray, t_max, p0, p1, p2),
-                            None => prims.intersect(id as usize, ray, t_max),
-                        };
-                        if let Some(h) = h {
+                if cur & node::NO_TRIANGLES != 0 {
+                    // Spheres, implicit surfaces...: no filter, every primitive called back.
+                    let ids = blocks.iter().flat_map(|b| b.id).take(count);
+                    for id in ids {
+                        if let Some(h) = prims.intersect(id as usize, ray, t_max) {
                             best = Some(Hit::new(id as usize, h));
                             if ANY {
                                 return best;
@@ -335,6 +309,15 @@ impl<const W: usize> WideBvh<W> {
                             t_cull = t_max * far;
                         }
                     }
+                } else {
+                    let rt = rt.get_or_insert_with(|| RayTri::new(ray));
+                    self.leaf_blocks::<P, ANY, AVX>(
+                        blocks, count, rt, prims, ray, &mut t_max, &mut best,
+                    );
+                    if ANY && best.is_some() {
+                        return best;
+                    }
+                    t_cull = t_max * far;
                 }
             }
             // Pop the nearest waiting child that can still hold a nearer hit.
@@ -348,6 +331,61 @@ impl<const W: usize> WideBvh<W> {
                 if e.t <= t_cull {
                     cur = e.child;
                     break;
+                }
+            }
+        }
+    }
+
+    /// Tests a leaf's triangle blocks (and calls back its other primitives), narrowing `t_max` and
+    /// setting `best` at each nearer hit; with `ANY`, returns at the first.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn leaf_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
+        &self,
+        blocks: &[TriBlock],
+        count: usize,
+        rt: &RayTri,
+        prims: &P,
+        ray: &Ray,
+        t_max: &mut f32,
+        best: &mut Option<Hit>,
+    ) {
+        let mut at = 0;
+        while at < blocks.len() {
+            // Two blocks per AVX filter where the leaf has them.
+            let (mut m, step) = if AVX && at + 1 < blocks.len() {
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `AVX` is true only inside `traverse_avx2`.
+                let m = unsafe { rt.candidates_pair_avx2(&blocks[at], &blocks[at + 1], *t_max) };
+                #[cfg(not(target_arch = "x86_64"))]
+                let m = unreachable!("AVX traversal on a target without it");
+                (m, 2)
+            } else {
+                (rt.candidates(&blocks[at], *t_max), 1)
+            };
+            // The last block's unused lanes repeat lane 0: skip them (a called-back
+            // primitive there would be tested twice).
+            let lanes = count - 4 * at;
+            if lanes < 8 {
+                m &= (1 << lanes) - 1;
+            }
+            let pair = &blocks[at..at + step];
+            at += step;
+            while m != 0 {
+                let bit = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let (b, lane) = (&pair[bit / 4], bit % 4);
+                let id = b.id[lane];
+                let h = match b.triangle(lane) {
+                    Some([p0, p1, p2]) => watertight(ray, *t_max, p0, p1, p2),
+                    None => prims.intersect(id as usize, ray, *t_max),
+                };
+                if let Some(h) = h {
+                    *best = Some(Hit::new(id as usize, h));
+                    if ANY {
+                        return;
+                    }
+                    *t_max = h.t;
                 }
             }
         }
