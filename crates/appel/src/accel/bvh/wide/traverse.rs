@@ -29,13 +29,14 @@ struct RayBoxes {
 impl RayBoxes {
     #[inline(always)]
     fn new(ray: &Ray) -> Self {
-        let inv = ray.dir.recip();
-        let neg = [0, 1, 2].map(|a| ray.dir[a].is_sign_negative() as usize);
+        let d = ray.dir;
+        // The sign bits, read directly: `glam`'s indexing checks the index on every access.
+        let neg = [d.x, d.y, d.z].map(|c| (c.to_bits() >> 31) as usize);
         Self {
-            o: ray.origin.into(),
-            inv: inv.into(),
-            near: [0, 1, 2].map(|a| 2 * a + neg[a]),
-            far: [0, 1, 2].map(|a| 2 * a + 1 - neg[a]),
+            o: ray.origin.to_array(),
+            inv: d.recip().to_array(),
+            near: [neg[0], 2 + neg[1], 4 + neg[2]],
+            far: [1 - neg[0], 3 - neg[1], 5 - neg[2]],
             far_scale: far_scale(),
         }
     }
@@ -298,8 +299,8 @@ impl<const W: usize> WideBvh<W> {
                 let blocks = &self.blocks[first..first + count.div_ceil(4)];
                 if cur & node::NO_TRIANGLES != 0 {
                     // Spheres, implicit surfaces...: no filter, every primitive called back.
-                    let ids = blocks.iter().flat_map(|b| b.id).take(count);
-                    for id in ids {
+                    for k in 0..count {
+                        let id = blocks[k / 4].id[k % 4];
                         if let Some(h) = prims.intersect(id as usize, ray, t_max) {
                             best = Some(Hit::new(id as usize, h));
                             if ANY {
