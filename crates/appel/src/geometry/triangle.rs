@@ -78,6 +78,30 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
         e1 = (p2x * p0y - p2y * p0x) as f32;
         e2 = (p0x * p1y - p0y * p1x) as f32;
     }
+    p0t.z *= sz;
+    p1t.z *= sz;
+    p2t.z *= sz;
+    watertight_finish(
+        [p0t.x, p1t.x, p2t.x],
+        [p0t.y, p1t.y, p2t.y],
+        [p0t.z, p1t.z, p2t.z],
+        [e0, e1, e2],
+        t_max,
+    )
+}
+
+/// The rest of [`watertight`] from the translated, permuted and sheared vertices (`z` already
+/// scaled by the shear's `sz`) and the edge functions: the inside test, the determinant, the range of
+/// `t` and its error bound. SIMD filters that compute those values lane by lane with the same
+/// operations finish here, so their hits are bit for bit the scalar test's.
+#[inline]
+pub(crate) fn watertight_finish(
+    x: [f32; 3],
+    y: [f32; 3],
+    z: [f32; 3],
+    [e0, e1, e2]: [f32; 3],
+    t_max: f32,
+) -> Option<PrimHit> {
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return None;
     }
@@ -89,10 +113,7 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
         return None;
     }
 
-    p0t.z *= sz;
-    p1t.z *= sz;
-    p2t.z *= sz;
-    let t_scaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
+    let t_scaled = e0 * z[0] + e1 * z[1] + e2 * z[2];
     // Early out before the division, loosened by a few ulps: `t_scaled` against `t_max * det` is
     // rounded differently from `t` against `t_max`, and the exact test on `t` below must decide, so
     // that whether a hit is reported never depends on the rounding of `t_max * det` (an
@@ -113,10 +134,10 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
     }
 
     // Conservative check that t is positive by more than its rounding error.
-    let max_zt = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();
+    let max_zt = Vec3::from(z).abs().max_element();
     let delta_z = gamma(3) * max_zt;
-    let max_xt = Vec3::new(p0t.x, p1t.x, p2t.x).abs().max_element();
-    let max_yt = Vec3::new(p0t.y, p1t.y, p2t.y).abs().max_element();
+    let max_xt = Vec3::from(x).abs().max_element();
+    let max_yt = Vec3::from(y).abs().max_element();
     let delta_x = gamma(5) * (max_xt + max_zt);
     let delta_y = gamma(5) * (max_yt + max_zt);
     let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);

@@ -7,11 +7,10 @@
 //! on other targets.
 
 use super::node::{self, Child, WideNode};
-use super::tri_block::{RayTri, TriBlock};
+use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
 use super::WideBvh;
 use crate::accel::bvh::far_scale;
 use crate::accel::{Hit, Primitives, TraversalStats};
-use crate::geometry::triangle::watertight;
 use crate::math::Ray;
 use std::mem::MaybeUninit;
 
@@ -351,18 +350,21 @@ impl<const W: usize> WideBvh<W> {
         t_max: &mut f32,
         best: &mut Option<Hit>,
     ) {
+        let mut vals = LaneValues::default();
         let mut at = 0;
         while at < blocks.len() {
             // Two blocks per AVX filter where the leaf has them.
             let (mut m, step) = if AVX && at + 1 < blocks.len() {
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: `AVX` is true only inside `traverse_avx2`.
-                let m = unsafe { rt.candidates_pair_avx2(&blocks[at], &blocks[at + 1], *t_max) };
+                let m = unsafe {
+                    rt.candidates_pair_avx2(&blocks[at], &blocks[at + 1], *t_max, &mut vals)
+                };
                 #[cfg(not(target_arch = "x86_64"))]
                 let m = unreachable!("AVX traversal on a target without it");
                 (m, 2)
             } else {
-                (rt.candidates(&blocks[at], *t_max), 1)
+                (rt.candidates(&blocks[at], *t_max, &mut vals), 1)
             };
             // The last block's unused lanes repeat lane 0: skip them (a called-back
             // primitive there would be tested twice).
@@ -378,7 +380,7 @@ impl<const W: usize> WideBvh<W> {
                 let (b, lane) = (&pair[bit / 4], bit % 4);
                 let id = b.id[lane];
                 let h = match b.triangle(lane) {
-                    Some([p0, p1, p2]) => watertight(ray, *t_max, p0, p1, p2),
+                    Some(tri) => finish(&vals, bit, tri, ray, *t_max),
                     None => prims.intersect(id as usize, ray, *t_max),
                 };
                 if let Some(h) = h {

@@ -8,6 +8,8 @@
 //! outside its loosened range. Every surviving lane is decided by the scalar function itself, so a
 //! block reports exactly the hits that testing its triangles one by one reports, bit for bit.
 
+use crate::geometry::triangle::{watertight, watertight_finish};
+use crate::geometry::PrimHit;
 use crate::math::{Ray, Vec3};
 
 /// Four triangles (`v[3 * k + axis]` is coordinate `axis` of vertex `k`, one lane per triangle)
@@ -64,9 +66,10 @@ impl TriBlock {
 /// the scalar test's operation, in its order.
 #[cfg(target_arch = "x86_64")]
 macro_rules! filter {
-    ($rt:expr, $t_max:expr, $row:expr) => {{
+    ($rt:expr, $t_max:expr, $row:expr, $store:expr) => {{
         let rt: &RayTri = $rt;
         let row = $row;
+        let mut put = $store;
         let ld = |k: usize, a: usize| row(3 * k + rt.k[a]);
         let [ox, oy, oz] = rt.o.map(|x| splat(x));
         let [sx, sy, sz] = rt.s.map(|x| splat(x));
@@ -90,10 +93,14 @@ macro_rules! filter {
         let any_pos = or(or(gt(e0, zero), gt(e1, zero)), gt(e2, zero));
         let outside = and(any_neg, any_pos);
         let det = add(add(e0, e1), e2);
-        let t_scaled = add(
-            add(mul(e0, mul(z0, sz)), mul(e1, mul(z1, sz))),
-            mul(e2, mul(z2, sz)),
-        );
+        let (z0, z1, z2) = (mul(z0, sz), mul(z1, sz), mul(z2, sz));
+        let t_scaled = add(add(mul(e0, z0), mul(e1, z1)), mul(e2, z2));
+        for (r, v) in [x0, x1, x2, y0, y1, y2, z0, z1, z2, e0, e1, e2]
+            .into_iter()
+            .enumerate()
+        {
+            put(r, v);
+        }
         let loose = mul(mul(splat($t_max), det), splat(1.0 + 4.0 * f32::EPSILON));
         let reject_t = or(
             or(
@@ -116,6 +123,10 @@ mod simd {
         #[inline(always)]
         pub unsafe fn load(p: *const f32) -> V {
             _mm_load_ps(p)
+        }
+        #[inline(always)]
+        pub unsafe fn store(p: *mut f32, v: V) {
+            _mm_storeu_ps(p, v)
         }
         #[inline(always)]
         pub unsafe fn splat(x: f32) -> V {
@@ -180,6 +191,11 @@ mod simd {
         #[target_feature(enable = "avx2")]
         pub unsafe fn load2(hi: *const f32, lo: *const f32) -> V {
             _mm256_loadu2_m128(hi, lo)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn store(p: *mut f32, v: V) {
+            _mm256_storeu_ps(p, v)
         }
         #[inline]
         #[target_feature(enable = "avx2")]
@@ -249,6 +265,38 @@ mod simd {
     }
 }
 
+/// The filter's intermediate values of up to eight lanes: rows 0-2 the sheared `x` of the three
+/// vertices, 3-5 their `y`, 6-8 their scaled `z`, 9-11 the edge functions.
+#[derive(Clone, Copy, Debug)]
+pub struct LaneValues {
+    pub r: [[f32; 8]; 12],
+}
+
+impl Default for LaneValues {
+    fn default() -> Self {
+        Self { r: [[0.0; 8]; 12] }
+    }
+}
+
+/// Decides a lane the filter kept: exactly [`watertight`] on the lane's triangle, finished from the
+/// filter's values unless an edge function is exactly zero (which the scalar test re-evaluates in
+/// f64, so it gets the whole scalar test).
+#[inline(always)]
+pub fn finish(
+    v: &LaneValues,
+    lane: usize,
+    tri: [Vec3; 3],
+    ray: &Ray,
+    t_max: f32,
+) -> Option<PrimHit> {
+    let e = [v.r[9][lane], v.r[10][lane], v.r[11][lane]];
+    if e.contains(&0.0) {
+        return watertight(ray, t_max, tri[0], tri[1], tri[2]);
+    }
+    let row = |k: usize| [v.r[k][lane], v.r[k + 1][lane], v.r[k + 2][lane]];
+    watertight_finish(row(0), row(3), row(6), e, t_max)
+}
+
 /// What the filter needs of a ray, computed once per ray: the watertight test's permutation (`kz`
 /// the axis of the largest direction component) and shear.
 #[derive(Clone, Copy, Debug)]
@@ -285,26 +333,33 @@ impl RayTri {
         }
     }
 
-    /// Bit `i` is set if lane `i` may hit in `(0, t_max)`: the lanes to test one by one.
+    /// Bit `i` is set if lane `i` may hit in `(0, t_max)`: the lanes to finish one by one (with
+    /// [`finish`]), whose intermediate values are left in `out`.
     #[inline(always)]
-    pub fn candidates(&self, b: &TriBlock, t_max: f32) -> u32 {
+    pub fn candidates(&self, b: &TriBlock, t_max: f32, out: &mut LaneValues) -> u32 {
         #[cfg(target_arch = "x86_64")]
         {
-            self.candidates_sse(b, t_max)
+            self.candidates_sse(b, t_max, out)
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
-            self.candidates_scalar(b, t_max)
+            self.candidates_scalar(b, t_max, out)
         }
     }
 
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn candidates_sse(&self, b: &TriBlock, t_max: f32) -> u32 {
-        // SAFETY: SSE and SSE2 are part of x86_64; the loads read 16-byte aligned `[f32; 4]` rows.
+    fn candidates_sse(&self, b: &TriBlock, t_max: f32, out: &mut LaneValues) -> u32 {
+        // SAFETY: SSE and SSE2 are part of x86_64; the loads read 16-byte aligned `[f32; 4]` rows,
+        // the stores write the first four floats of `[f32; 8]` rows.
         unsafe {
             use simd::sse::*;
-            filter!(self, t_max, |row: usize| load(b.v[row].as_ptr()))
+            filter!(
+                self,
+                t_max,
+                |row: usize| load(b.v[row].as_ptr()),
+                |r: usize, v| store(out.r[r].as_mut_ptr(), v)
+            )
         }
     }
 
@@ -315,17 +370,25 @@ impl RayTri {
     #[cfg(target_arch = "x86_64")]
     #[inline]
     #[target_feature(enable = "avx2")]
-    pub unsafe fn candidates_pair_avx2(&self, a: &TriBlock, b: &TriBlock, t_max: f32) -> u32 {
+    pub unsafe fn candidates_pair_avx2(
+        &self,
+        a: &TriBlock,
+        b: &TriBlock,
+        t_max: f32,
+        out: &mut LaneValues,
+    ) -> u32 {
         use simd::avx::*;
-        filter!(self, t_max, |row: usize| load2(
-            b.v[row].as_ptr(),
-            a.v[row].as_ptr()
-        ))
+        filter!(
+            self,
+            t_max,
+            |row: usize| load2(b.v[row].as_ptr(), a.v[row].as_ptr()),
+            |r: usize, v| store(out.r[r].as_mut_ptr(), v)
+        )
     }
 
     /// The same filter one lane at a time, for targets without the SSE path.
     #[cfg_attr(target_arch = "x86_64", allow(dead_code))]
-    fn candidates_scalar(&self, b: &TriBlock, t_max: f32) -> u32 {
+    fn candidates_scalar(&self, b: &TriBlock, t_max: f32, out: &mut LaneValues) -> u32 {
         let mut mask = 0;
         for lane in 0..4 {
             let ld = |k: usize, a: usize| b.v[3 * k + self.k[a]][lane];
@@ -347,7 +410,14 @@ impl RayTri {
             let outside = (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0);
             let det = e0 + e1 + e2;
             let sz = self.s[2];
-            let t_scaled = e0 * (z0 * sz) + e1 * (z1 * sz) + e2 * (z2 * sz);
+            let (z0, z1, z2) = (z0 * sz, z1 * sz, z2 * sz);
+            let t_scaled = e0 * z0 + e1 * z1 + e2 * z2;
+            for (r, v) in [x0, x1, x2, y0, y1, y2, z0, z1, z2, e0, e1, e2]
+                .into_iter()
+                .enumerate()
+            {
+                out.r[r][lane] = v;
+            }
             let loose = t_max * det * (1.0 + 4.0 * f32::EPSILON);
             let reject_t = det == 0.0
                 || (det < 0.0 && (t_scaled >= 0.0 || t_scaled < loose))
@@ -401,18 +471,31 @@ mod tests {
             let b = TriBlock::new(&lanes);
             let rt = RayTri::new(&ray);
             let t_max = if i % 3 == 0 { 1.5 } else { f32::INFINITY };
-            let mask = rt.candidates(&b, t_max);
-            assert_eq!(mask, rt.candidates_scalar(&b, t_max));
+            let mut vals = LaneValues::default();
+            let mut scalar_vals = LaneValues::default();
+            let mask = rt.candidates(&b, t_max, &mut vals);
+            assert_eq!(mask, rt.candidates_scalar(&b, t_max, &mut scalar_vals));
             #[cfg(target_arch = "x86_64")]
             if std::is_x86_feature_detected!("avx2") {
                 let other = TriBlock::new(&lanes[1..]);
                 // SAFETY: the CPU has AVX2.
-                let pair = unsafe { rt.candidates_pair_avx2(&b, &other, t_max) };
-                assert_eq!(pair, mask | rt.candidates(&other, t_max) << 4);
+                let mut pair_vals = LaneValues::default();
+                let pair = unsafe { rt.candidates_pair_avx2(&b, &other, t_max, &mut pair_vals) };
+                let mut other_vals = LaneValues::default();
+                assert_eq!(
+                    pair,
+                    mask | rt.candidates(&other, t_max, &mut other_vals) << 4
+                );
             }
             for (k, t) in tris.iter().enumerate() {
                 total += 1;
                 kept += (mask >> k) & 1;
+                if mask & (1 << k) != 0 {
+                    // Finishing from the filter's values is the scalar test, bit for bit.
+                    let want = watertight(&ray, t_max, t[0], t[1], t[2]);
+                    assert_eq!(finish(&vals, k, *t, &ray, t_max), want, "ray {i} lane {k}");
+                    assert_eq!(finish(&scalar_vals, k, *t, &ray, t_max), want);
+                }
                 if watertight(&ray, t_max, t[0], t[1], t[2]).is_some() {
                     hits += 1;
                     assert!(
@@ -440,6 +523,10 @@ mod tests {
         assert_eq!(b.triangle(3), Some(t));
         let r = Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
         // The called-back lane always survives; the triangle lanes hit.
-        assert_eq!(RayTri::new(&r).candidates(&b, f32::INFINITY), 0b1111);
+        let mut vals = LaneValues::default();
+        assert_eq!(
+            RayTri::new(&r).candidates(&b, f32::INFINITY, &mut vals),
+            0b1111
+        );
     }
 }
