@@ -161,6 +161,28 @@ fn bad_structure_parameters_are_rejected_at_their_line() {
 }
 
 #[test]
+fn stats_report_the_structure_built_from_the_scene_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = format!(
+        "{CAMERA}[render]\naccel = \"bvh\"\n[render.bvh]\nwidth = 4\nsplit = \"median\"\n\n[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 1.0, 0.0]\nradius = 1.0\n"
+    );
+    std::fs::write(dir.path().join("s.toml"), scene).unwrap();
+    let out = appel(
+        &[
+            "render", "s.toml", "-o", "s.png", "--quiet", "--stats", "--size", "16x12",
+        ],
+        dir.path(),
+    );
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("accel bvh (4-wide, median splits): 1 primitives"),
+        "{err}"
+    );
+    assert!(err.contains("nodes visited"), "{err}");
+}
+
+#[test]
 fn unknown_material_is_rejected() {
     let s = format!("{CAMERA}[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"gold\"\n");
     assert_rejected("m.toml", &s, &["m.toml:8:12", "unknown material `gold`"]);
