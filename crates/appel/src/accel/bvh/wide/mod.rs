@@ -5,6 +5,8 @@
 //! `W` children or only leaves remain.
 
 mod node;
+#[cfg(target_arch = "x86_64")]
+mod simd;
 mod traverse;
 mod tri_block;
 

@@ -98,6 +98,25 @@ fn slabs<const W: usize, const AVX: bool>(
     }
 }
 
+/// The slab test's body over any lane width: `$row(k)` loads the lanes of row `k` of the bounds.
+#[cfg(target_arch = "x86_64")]
+macro_rules! slab_lanes {
+    ($r:expr, $t_cull:expr, $row:expr) => {{
+        let r: &RayBoxes = $r;
+        let row = $row;
+        let mut t0 = splat(0.0);
+        let mut t1 = splat($t_cull);
+        let fs = splat(r.far_scale);
+        for a in 0..3 {
+            let o = splat(r.o[a]);
+            let inv = splat(r.inv[a]);
+            t0 = max(mul(sub(row(r.near[a]), o), inv), t0);
+            t1 = min(mul(mul(sub(row(r.far[a]), o), inv), fs), t1);
+        }
+        (t0, le(t0, t1))
+    }};
+}
+
 /// Four lanes starting at `lane` of a node whose rows hold `w` floats each.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
@@ -109,44 +128,20 @@ unsafe fn slabs4_sse(
     t_cull: f32,
     dist: *mut f32,
 ) -> u32 {
-    use std::arch::x86_64::*;
-    let row = |k: usize| _mm_loadu_ps(bounds.add(k * w + lane));
-    let mut t0 = _mm_setzero_ps();
-    let mut t1 = _mm_set1_ps(t_cull);
-    let fs = _mm_set1_ps(r.far_scale);
-    for a in 0..3 {
-        let o = _mm_set1_ps(r.o[a]);
-        let inv = _mm_set1_ps(r.inv[a]);
-        t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(row(r.near[a]), o), inv), t0);
-        t1 = _mm_min_ps(
-            _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(row(r.far[a]), o), inv), fs),
-            t1,
-        );
-    }
-    _mm_storeu_ps(dist.add(lane), t0);
-    _mm_movemask_ps(_mm_cmple_ps(t0, t1)) as u32
+    use super::simd::sse::*;
+    let (t0, hit) = slab_lanes!(r, t_cull, |k: usize| loadu(bounds.add(k * w + lane)));
+    store(dist.add(lane), t0);
+    mask(hit)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[inline]
 #[target_feature(enable = "avx2")]
 unsafe fn slabs8_avx(bounds: *const f32, r: &RayBoxes, t_cull: f32, dist: *mut f32) -> u32 {
-    use std::arch::x86_64::*;
-    let row = |k: usize| _mm256_loadu_ps(bounds.add(k * 8));
-    let mut t0 = _mm256_setzero_ps();
-    let mut t1 = _mm256_set1_ps(t_cull);
-    let fs = _mm256_set1_ps(r.far_scale);
-    for a in 0..3 {
-        let o = _mm256_set1_ps(r.o[a]);
-        let inv = _mm256_set1_ps(r.inv[a]);
-        t0 = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(row(r.near[a]), o), inv), t0);
-        t1 = _mm256_min_ps(
-            _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(row(r.far[a]), o), inv), fs),
-            t1,
-        );
-    }
-    _mm256_storeu_ps(dist, t0);
-    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t0, t1)) as u32
+    use super::simd::avx::*;
+    let (t0, hit) = slab_lanes!(r, t_cull, |k: usize| loadu(bounds.add(k * 8)));
+    store(dist, t0);
+    mask(hit)
 }
 
 #[cfg(target_arch = "x86_64")]
