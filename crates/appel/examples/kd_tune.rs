@@ -29,7 +29,23 @@ fn main() {
     let n = g.prims.len() as f64;
     if std::env::var_os("KD_PROFILE").is_some() {
         // One pass of each ray kind through the default kd-tree, for callgrind.
-        let kd = Accel::build(AccelKind::KdTree, g);
+        let kd = match args.get(1..6) {
+            Some(v) => {
+                let v: Vec<f32> = v.iter().map(|s| s.parse().unwrap()).collect();
+                Accel::KdTree(KdTree::build_with(
+                    g,
+                    KdOptions {
+                        intersect_cost: v[0],
+                        empty_bonus: v[1],
+                        max_prims: v[2] as usize,
+                        max_depth: Some((v[3] as f64 + 1.3 * n.log2()).round() as usize),
+                        max_bad: v[4] as u32,
+                        ..KdOptions::default()
+                    },
+                ))
+            }
+            None => Accel::build(AccelKind::KdTree, g),
+        };
         let mut t = TraversalStats::default();
         let mut hits = 0;
         for r in rays.primary.iter().chain(&rays.incoherent) {
