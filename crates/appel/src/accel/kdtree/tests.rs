@@ -88,15 +88,18 @@ fn small_dense_mesh_in_a_huge_sparse_one_is_cheap() {
     assert!(hits > rays.len() / 2, "{hits}");
     let per_ray = |s: TraversalStats| s.prim_tests as f64 / s.rays as f64;
     let (k, b) = (per_ray(sk), per_ray(sb));
-    assert!(k <= 3.0 * b.max(1.0), "kd-tree {k} tests per ray, bvh {b}");
+    // Leaves of the kd-tree are larger than the BVH's by design (their triangles are tested
+    // four at a time and a triangle costs a tenth of a traversal step, `KdOptions::default`), so
+    // its lane tests per ray run several times the BVH's; the collapse gave 4,000 times.
+    assert!(k <= 8.0 * b.max(1.0), "kd-tree {k} tests per ray, bvh {b}");
     assert!(
         sk.prim_tests <= sr.prim_tests / 20,
         "{sk:?} vs brute {sr:?}"
     );
-    // Build memory: the leaves hold a primitive about 11 times on average (the stadium's large
-    // triangles span many cells of its surface), not hundreds.
+    // Build memory: the leaves hold a primitive about twice on average (the stadium's large
+    // triangles span several cells of its surface), not hundreds.
     let n = crate::accel::Primitives::count(g);
-    assert!(kd.refs <= 16 * n, "{} for {n}", kd.refs);
+    assert!(kd.refs <= 4 * n, "{} for {n}", kd.refs);
 }
 
 #[test]
@@ -112,4 +115,16 @@ fn parallel_build_is_the_sequential_build() {
     assert_eq!(par.refs, seq.refs);
     let (p, s) = (par.stats(), seq.stats());
     assert_eq!((p.nodes, p.leaves, p.depth), (s.nodes, s.leaves, s.depth));
+}
+
+#[test]
+fn a_tessellated_surface_is_not_shattered() {
+    // Mesh vertices lie on candidate planes, where triangles end and start; the partition sends
+    // every triangle touching the plane to both sides. When the SAH did not count those copies it
+    // took such planes as free: with pbrt's 80:1 costs the bunny's tree held each triangle in 28
+    // leaves; with the default options this sphere had 2.18 references per triangle, now 1.81.
+    let m = crate::geometry::procedural::icosphere(5);
+    let n = m.indices.len();
+    let (kd, _) = check(&m, KdOptions::default());
+    assert!(kd.refs <= 2 * n, "{} refs for {n}", kd.refs);
 }
