@@ -2,7 +2,7 @@
 //! builds the kd-tree over a mesh file with each option set (and the BVH for reference) and prints
 //! build time, bytes, and 1-thread Mrays/s on the camera, incoherent and shadow rays of `appel bench`.
 //! `KD_RACE=1`: builds every structure first, then times them in alternation (best of 7 passes) and
-//! prints the BVH / kd-tree ratios. `KD_PROFILE=camera|incoherent|shadow`: one pass of that kind
+//! prints the BVH / kd-tree ratios. `KD_PROFILE=camera|incoherent|shadow|none`: one pass of that kind (or none)
 //! through the kd-tree of the first option set (or the default; the BVH with `KD_BVH=1`), for
 //! `valgrind --tool=callgrind` or `--tool=cachegrind --branch-sim=yes`.
 
@@ -60,7 +60,9 @@ fn main() {
         } else {
             &kd
         };
-        if kind != "shadow" {
+        if kind == "none" {
+            // The build and ray generation alone: subtracted from the other kinds' totals.
+        } else if kind != "shadow" {
             let rs = if kind == "camera" {
                 &rays.primary
             } else {
