@@ -1,6 +1,10 @@
-//! Tuning the kd-tree: `cargo run --release -p appel --example kd_tune -- MESH [ISECT_COST EMPTY_BONUS MAX_PRIMS DEPTH_ADD]...`
+//! Tuning the kd-tree: `cargo run --release -p appel --example kd_tune -- MESH [ISECT_COST EMPTY_BONUS MAX_PRIMS DEPTH_ADD MAX_BAD]...`
 //! builds the kd-tree over a mesh file with each option set (and the BVH for reference) and prints
 //! build time, bytes, and 1-thread Mrays/s on the camera, incoherent and shadow rays of `appel bench`.
+//! `KD_RACE=1`: builds every structure first, then times them in alternation (best of 7 passes) and
+//! prints the BVH / kd-tree ratios. `KD_PROFILE=camera|incoherent|shadow|none`: one pass of that kind (or none)
+//! through the kd-tree of the first option set (or the default; the BVH with `KD_BVH=1`), for
+//! `valgrind --tool=callgrind` or `--tool=cachegrind --branch-sim=yes`.
 
 use appel::accel::{Accel, AccelKind, KdOptions, KdTree, TraversalStats};
 use appel::bench::{throughput, BenchRays, BenchTarget};
@@ -30,14 +34,48 @@ fn main() {
     let n = g.prims.len() as f64;
     if std::env::var_os("KD_PROFILE").is_some() {
         // One pass of each ray kind through the default kd-tree, for callgrind.
-        let kd = Accel::build(AccelKind::KdTree, g);
+        let kd = match args.get(1..6) {
+            Some(v) => {
+                let v: Vec<f32> = v.iter().map(|s| s.parse().unwrap()).collect();
+                Accel::KdTree(KdTree::build_with(
+                    g,
+                    KdOptions {
+                        intersect_cost: v[0],
+                        empty_bonus: v[1],
+                        max_prims: v[2] as usize,
+                        max_depth: Some((v[3] as f64 + 1.3 * n.log2()).round() as usize),
+                        max_bad: v[4] as u32,
+                        ..KdOptions::default()
+                    },
+                ))
+            }
+            None => Accel::build(AccelKind::KdTree, g),
+        };
         let mut t = TraversalStats::default();
         let mut hits = 0;
-        for r in rays.primary.iter().chain(&rays.incoherent) {
-            hits += kd.intersect(g, r, f32::INFINITY, &mut t).is_some() as usize;
-        }
-        for s in &rays.shadow {
-            hits += kd.occluded(g, &s.ray, s.t_max, &mut t) as usize;
+        // KD_PROFILE=camera|incoherent|shadow traces only that kind (callgrind per kind).
+        let kind = std::env::var("KD_PROFILE").unwrap();
+        let bvh = Accel::build(AccelKind::Bvh, g);
+        let accel = if std::env::var_os("KD_BVH").is_some() {
+            &bvh
+        } else {
+            &kd
+        };
+        if kind == "none" {
+            // The build and ray generation alone: subtracted from the other kinds' totals.
+        } else if kind != "shadow" {
+            let rs = if kind == "camera" {
+                &rays.primary
+            } else {
+                &rays.incoherent
+            };
+            for r in rs {
+                hits += accel.intersect(g, r, f32::INFINITY, &mut t).is_some() as usize;
+            }
+        } else {
+            for s in &rays.shadow {
+                hits += accel.occluded(g, &s.ray, s.t_max, &mut t) as usize;
+            }
         }
         println!("{hits} hits");
         return;
@@ -53,6 +91,64 @@ fn main() {
             max_bad: v[4] as u32,
             ..KdOptions::default()
         }));
+    }
+    if std::env::var_os("KD_RACE").is_some() {
+        // Every structure built first, then timed in alternation, best pass of each kept: the
+        // least disturbed pass on a shared machine, and the same load for every structure.
+        let accels: Vec<(String, Accel)> = sets
+            .iter()
+            .map(|set| match set {
+                None => ("bvh".to_string(), Accel::build(AccelKind::Bvh, g)),
+                Some(o) => (
+                    format!(
+                        "kd {:?}",
+                        (o.intersect_cost, o.empty_bonus, o.max_prims, o.max_bad)
+                    ),
+                    Accel::KdTree(KdTree::build_with(g, *o)),
+                ),
+            })
+            .collect();
+        let mut best = vec![[0.0f64; 3]; accels.len()];
+        for _ in 0..7 {
+            for (k, (_, accel)) in accels.iter().enumerate() {
+                let cam = throughput(&pool, &rays.primary, 1, 1, |r| {
+                    accel
+                        .intersect(g, r, f32::INFINITY, &mut TraversalStats::default())
+                        .is_some() as usize
+                });
+                let inc = throughput(&pool, &rays.incoherent, 1, 1, |r| {
+                    accel
+                        .intersect(g, r, f32::INFINITY, &mut TraversalStats::default())
+                        .is_some() as usize
+                });
+                let sh = throughput(&pool, &rays.shadow, 1, 1, |s| {
+                    accel.occluded(g, &s.ray, s.t_max, &mut TraversalStats::default()) as usize
+                });
+                for (b, v) in best[k].iter_mut().zip([cam, inc, sh]) {
+                    *b = b.max(v);
+                }
+            }
+        }
+        for (k, (name, accel)) in accels.iter().enumerate() {
+            let [c, i, s] = best[k];
+            let [bc, bi, bs] = best[0];
+            let mut t = TraversalStats::default();
+            for r in &rays.incoherent {
+                accel.intersect(g, r, f32::INFINITY, &mut t);
+            }
+            let st = accel.stats();
+            println!(
+                "{name:<32} {:>10} B d{:2} inc n/t {:5.1} {:5.1}  cam {c:6.2} inc {i:6.3} shadow {s:6.3}  bvh/this {:.2} {:.2} {:.2}",
+                st.bytes,
+                st.depth,
+                t.nodes_visited as f64 / t.rays as f64,
+                t.prim_tests as f64 / t.rays as f64,
+                bc / c,
+                bi / i,
+                bs / s
+            );
+        }
+        return;
     }
     for set in sets {
         let start = Instant::now();

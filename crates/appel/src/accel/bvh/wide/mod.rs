@@ -11,6 +11,7 @@ mod traverse;
 mod tri_block;
 
 pub use node::WideNode;
+pub(crate) use tri_block::RayTri;
 pub use tri_block::TriBlock;
 
 use super::node::BvhNode;

@@ -1,0 +1,173 @@
+//! kd-tree with SAH splits (the cost model of MacDonald & Booth 1990 with the empty-space bonus
+//! and termination rules of pbrt-v3's `KdTreeAccel`, Pharr et al. 2016, section 4.4).
+//!
+//! Split candidates are the primitives' bounds clipped to the node (Wald & Havran 2006 clip the
+//! triangle itself, "perfect splits"; the builder sees only bounds, so it clips those): nodes of up
+//! to `EXACT_MAX` primitives sweep all of them exactly, larger ones bin them into `BINS` bins over
+//! the clipped bounds' extent. A primitive whose bounds straddle the chosen plane goes only to the
+//! children it really overlaps (`Primitives::clip_overlaps`), so a large triangle whose bounds
+//! cover a dense cluster is not copied into the cluster's leaves. Leaves store their triangles
+//! gathered into the BVH's SIMD blocks of four (`TriBlock`); traversal filters a block at once and
+//! passes the survivors through a small per-ray mailbox, so a primitive copied into several leaves
+//! along a ray is tested once. Build memory is the primitive bounds plus one index list per node on
+//! the current recursion path. Nodes are 8 bytes (pbrt's `KdAccelNode`, `node.rs`).
+
+mod build;
+mod node;
+#[cfg(test)]
+mod tests;
+mod traverse;
+
+pub use node::KdNode;
+
+use super::bvh::TriBlock;
+use super::{AccelStats, Hit, Primitives, TraversalStats};
+use crate::math::{Aabb, Ray};
+use build::Builder;
+use rayon::prelude::*;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KdOptions {
+    pub traversal_cost: f32,
+    pub intersect_cost: f32,
+    /// Fraction of the cost saved when one side of a split is empty (pbrt's 0.5).
+    pub empty_bonus: f32,
+    /// Leaves stop splitting at this many primitives.
+    pub max_prims: usize,
+    /// `None`: `8 + 1.3 log2(N)`, pbrt's rule of thumb.
+    pub max_depth: Option<usize>,
+    /// A node becomes a leaf when it would be the `max_bad`-th split on its path that does not
+    /// lower the SAH cost (pbrt: 3; here 1, the first).
+    pub max_bad: u32,
+}
+
+impl Default for KdOptions {
+    fn default() -> Self {
+        // Measured, not pbrt-v3's (80:1, leaves of 2, 3 bad splits): leaves test their triangles
+        // four at a time, so one triangle costs a tenth of a traversal step, whose latency
+        // (a dependent load, the plane distance and an unpredictable branch) bounds the
+        // traversal. With these the bunny's tree has 1.8 leaf references per triangle and leaves
+        // of about 28, ended by cost (`max_prims` is one block); 80:1 gave 12 references per
+        // triangle and every path at the depth limit. See docs/performance.md.
+        Self {
+            traversal_cost: 1.0,
+            intersect_cost: 0.1,
+            empty_bonus: 0.5,
+            max_prims: 4,
+            max_depth: None,
+            max_bad: 1,
+        }
+    }
+}
+
+/// Bins per axis for nodes of more than `EXACT_MAX` primitives; smaller nodes use the exact sweep.
+const BINS: usize = 1024;
+const EXACT_MAX: usize = 1024;
+/// Smallest empty slab, as a fraction of the node's extent, that earns the empty-space bonus.
+const EMPTY_MIN: f32 = 0.125;
+const STACK: usize = 64;
+const PAR_MIN: usize = 1 << 15;
+
+#[derive(Clone, Debug, Default)]
+pub struct KdTree {
+    bounds: Aabb,
+    nodes: Vec<KdNode>,
+    /// Leaf triangles in SIMD blocks of four; a leaf's blocks are consecutive.
+    blocks: Vec<TriBlock>,
+    /// Leaf references: each primitive counted once per leaf that holds it.
+    refs: usize,
+    stats: AccelStats,
+}
+
+impl KdTree {
+    pub fn build<P: Primitives>(prims: &P) -> Self {
+        Self::build_with(prims, KdOptions::default())
+    }
+
+    pub fn build_with<P: Primitives>(prims: &P, opts: KdOptions) -> Self {
+        Self::build_par(prims, opts, PAR_MIN)
+    }
+
+    /// `par_min`: nodes of at least this many primitives build their children in parallel.
+    fn build_par<P: Primitives>(prims: &P, opts: KdOptions, par_min: usize) -> Self {
+        let n = prims.count();
+        let bounds: Vec<Aabb> = (0..n).into_par_iter().map(|i| prims.bounds(i)).collect();
+        let root = bounds.iter().fold(Aabb::EMPTY, |a, &b| a.union(b));
+        let ids: Vec<u32> = (0..n as u32)
+            .filter(|&i| !bounds[i as usize].is_empty())
+            .collect();
+        let mut tree = Self {
+            bounds: root,
+            ..Default::default()
+        };
+        if ids.is_empty() {
+            tree.stats = AccelStats {
+                name: "kdtree",
+                primitives: n,
+                ..Default::default()
+            };
+            return tree;
+        }
+        let max_depth = opts
+            .max_depth
+            .unwrap_or_else(|| (8.0 + 1.3 * (n as f64).log2()).round() as usize)
+            .min(STACK - 1);
+        let scale = root.min.abs().max(root.max.abs()).max_element();
+        let mut b = Builder {
+            prims,
+            bounds: &bounds,
+            opts,
+            margin: scale * 8.0 * f32::EPSILON,
+            nodes: Vec::new(),
+            blocks: Vec::new(),
+            refs: 0,
+            root_area: root.surface_area() as f64,
+            sah: 0.0,
+            depth: 0,
+            leaves: 0,
+            par_min,
+        };
+        b.build(root, ids, max_depth, 0, 0);
+        tree.stats = AccelStats {
+            name: "kdtree",
+            primitives: n,
+            bytes: b.nodes.len() * std::mem::size_of::<KdNode>()
+                + b.blocks.len() * std::mem::size_of::<TriBlock>(),
+            nodes: b.nodes.len() - b.leaves,
+            leaves: b.leaves,
+            depth: b.depth,
+            sah_cost: Some(b.sah),
+            ..Default::default()
+        };
+        tree.nodes = b.nodes;
+        tree.blocks = b.blocks;
+        tree.refs = b.refs;
+        tree
+    }
+
+    #[inline]
+    pub fn intersect<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        self.traverse::<P, false>(prims, ray, t_max, stats)
+    }
+
+    #[inline]
+    pub fn occluded<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        self.traverse::<P, true>(prims, ray, t_max, stats).is_some()
+    }
+
+    pub fn stats(&self) -> AccelStats {
+        self.stats.clone()
+    }
+}
