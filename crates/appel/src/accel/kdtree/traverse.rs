@@ -5,9 +5,8 @@
 //! functions; the survivors go through a per-ray mailbox and the scalar test.
 
 use super::{KdTree, STACK};
-use crate::accel::bvh::{far_scale, RayBox, RayTri};
+use crate::accel::bvh::{far_scale, finish, LaneValues, RayBox, RayTri};
 use crate::accel::{Hit, Primitives, TraversalStats};
-use crate::geometry::triangle::watertight;
 use crate::math::{Ray, Vec3};
 use std::mem::MaybeUninit;
 
@@ -42,6 +41,7 @@ impl KdTree {
             self.bounds
                 .slab_intersect(ray, Vec3::from(rb.inv), t_max * far_scale())?;
         let rt = RayTri::new(ray);
+        let mut vals = LaneValues::default();
         let mut stack = [const { MaybeUninit::<Far>::uninit() }; STACK];
         let mut sp = 0usize;
         let mut at = 0usize;
@@ -91,7 +91,7 @@ impl KdTree {
             stats.prim_tests += count as u64;
             let first = node.data as usize;
             for b in &self.blocks[first..first + count.div_ceil(4)] {
-                let mut m = rt.candidates(b, t_max);
+                let mut m = rt.candidates(b, t_max, &mut vals);
                 while m != 0 {
                     let lane = m.trailing_zeros() as usize;
                     m &= m - 1;
@@ -105,7 +105,7 @@ impl KdTree {
                     }
                     mail[slot] = p;
                     let h = match b.triangle(lane) {
-                        Some([p0, p1, p2]) => watertight(ray, t_max, p0, p1, p2),
+                        Some(tri) => finish(&vals, lane, tri, ray, t_max),
                         None => prims.intersect(p as usize, ray, t_max),
                     };
                     if let Some(h) = h {

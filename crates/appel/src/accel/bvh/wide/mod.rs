@@ -11,8 +11,8 @@ mod traverse;
 mod tri_block;
 
 pub use node::WideNode;
-pub(crate) use tri_block::RayTri;
 pub use tri_block::TriBlock;
+pub(crate) use tri_block::{finish, LaneValues, RayTri};
 
 use super::node::BvhNode;
 use crate::accel::Primitives;
