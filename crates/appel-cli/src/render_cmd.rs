@@ -17,7 +17,7 @@ pub struct RenderArgs {
     /// Output image: .png (8-bit sRGB) or .exr (linear float RGB, plus AOVs).
     #[arg(short, long, default_value = "render.png")]
     output: PathBuf,
-    /// AOV channels to add to an EXR: a comma-separated list of depth, normal, shapeid, primid.
+    /// AOV channels to add to an EXR: a comma-separated list of depth, normal, shapeid, primid, instanceid.
     #[arg(long, value_name = "LIST")]
     aov: Option<String>,
     /// Worker threads (default: all cores). The image is identical for any count.

@@ -44,6 +44,8 @@ pub struct Hit {
     pub t: f32,
     pub u: f32,
     pub v: f32,
+    /// [`PrimHit::sub`]: the primitive hit inside primitive `prim` when that is a nested structure.
+    pub sub: u32,
 }
 
 impl Hit {
@@ -53,6 +55,7 @@ impl Hit {
             t: h.t,
             u: h.u,
             v: h.v,
+            sub: h.sub,
         }
     }
 }

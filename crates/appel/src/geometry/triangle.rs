@@ -124,7 +124,12 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
     if t <= delta_t {
         return None;
     }
-    Some(PrimHit { t, u: b1, v: b2 })
+    Some(PrimHit {
+        t,
+        u: b1,
+        v: b2,
+        sub: 0,
+    })
 }
 
 /// Moller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection".
@@ -151,7 +156,7 @@ pub fn moller_trumbore(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> O
     }
     let t = e2.dot(qvec) * inv_det;
     if t > 0.0 && t < t_max {
-        Some(PrimHit { t, u, v })
+        Some(PrimHit { t, u, v, sub: 0 })
     } else {
         None
     }

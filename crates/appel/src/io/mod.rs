@@ -5,6 +5,7 @@ pub mod gltf;
 pub mod image;
 pub mod mesh_file;
 pub mod obj;
+pub mod placements;
 pub mod ply;
 mod ply_write;
 pub mod points;

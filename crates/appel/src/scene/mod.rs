@@ -6,6 +6,8 @@ mod camera;
 pub mod description;
 mod frame;
 mod geometry;
+mod instance;
+mod instance_entries;
 mod light;
 mod material;
 mod mesh_shape;
@@ -15,7 +17,8 @@ pub mod validate;
 pub use camera::Camera;
 pub use description::Description;
 pub use frame::{frame_model, model_description};
-pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind, ShapeSource};
+pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE};
+pub use instance::{Instance, Prototype};
 pub use light::Light;
 pub use material::{Checker, Material};
 
@@ -249,10 +252,18 @@ impl Scene {
                 shape.source.shape = index as u32;
             }
         }
-        let load = load_start.elapsed();
+        let prototype_build = instance_entries::add_instances(
+            d,
+            base_dir,
+            settings.accel,
+            &mut geometry,
+            &mut materials,
+            |m| names.iter().position(|n| *n == m).map_or(0, |i| i as u32 + 1),
+        )?;
+        let load = load_start.elapsed() - prototype_build;
         let build_start = Instant::now();
         let accel = Accel::build(settings.accel, &geometry);
-        let build = build_start.elapsed();
+        let build = build_start.elapsed() + prototype_build;
         Ok(Scene {
             camera: Camera::new(&d.camera),
             settings,
@@ -294,7 +305,7 @@ impl Scene {
     }
 
     pub fn material(&self, hit: &SceneHit) -> &Material {
-        &self.materials[self.geometry.shapes[hit.shape as usize].material as usize]
+        &self.materials[self.geometry.material(hit) as usize]
     }
 
     pub fn accel_stats(&self) -> AccelStats {

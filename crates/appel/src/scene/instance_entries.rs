@@ -1,0 +1,88 @@
+//! From `[meshes.NAME]` and `[[instance]]` entries to prototypes and instances.
+
+use super::description::Description;
+use super::instance::{Instance, Prototype};
+use super::mesh_shape::add_mesh_file;
+use super::{Geometry, Material};
+use crate::accel::AccelKind;
+use crate::error::{Error, Location, Result};
+use crate::geometry::InstanceTransform;
+use crate::io::placements::read_placements;
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// Loads every declared mesh that an instance uses, builds its structure, and adds the instances
+/// (their `shapeid` continues the numbering of the `[[shape]]` entries). Returns the time spent
+/// building the prototypes' structures, which belongs to the build phase, not loading.
+pub(super) fn add_instances(
+    d: &Description,
+    base_dir: &Path,
+    kind: AccelKind,
+    geometry: &mut Geometry,
+    materials: &mut Vec<Material>,
+    material_index: impl Fn(&str) -> u32,
+) -> Result<Duration> {
+    let mut build = Duration::ZERO;
+    let mut prototype_of: BTreeMap<&str, u32> = BTreeMap::new();
+    for entry in &d.instances {
+        if prototype_of.contains_key(entry.mesh.as_str()) {
+            continue;
+        }
+        let Some(m) = d.meshes.get(&entry.mesh) else {
+            return Err(Error::Invalid(format!("unknown mesh `{}`", entry.mesh)));
+        };
+        let mut mesh_geometry = Geometry::new(geometry.triangle_test);
+        let material = m.material.as_deref().map(&material_index);
+        add_mesh_file(
+            &mut mesh_geometry,
+            materials,
+            &base_dir.join(&m.file),
+            None,
+            material,
+        )?;
+        let start = Instant::now();
+        geometry
+            .prototypes
+            .push(Prototype::new(mesh_geometry, kind));
+        build += start.elapsed();
+        prototype_of.insert(&entry.mesh, geometry.prototypes.len() as u32 - 1);
+    }
+    for (k, entry) in d.instances.iter().enumerate() {
+        let prototype = prototype_of[entry.mesh.as_str()];
+        let source = (d.shapes.len() + k) as u32;
+        let instance = |transform| Instance {
+            transform,
+            prototype,
+            source,
+        };
+        match &entry.placements {
+            Some(file) => {
+                let path = base_dir.join(file);
+                let placements = read_placements(&path)?;
+                let mut instances = Vec::with_capacity(placements.len());
+                for p in placements {
+                    let Some(x) = InstanceTransform::new(p.to_world) else {
+                        return Err(Error::input(
+                            Location::line(&path, p.line, None),
+                            "the placement's matrix is not invertible",
+                        ));
+                    };
+                    instances.push(instance(x));
+                }
+                geometry.push_instances(source, instances);
+            }
+            None => {
+                let m = entry
+                    .transform
+                    .as_ref()
+                    .map_or(glam::Mat4::IDENTITY, |t| t.matrix());
+                let x = InstanceTransform::new(m).ok_or_else(|| {
+                    Error::Invalid(format!("instance {k}'s transform is not invertible"))
+                })?;
+                geometry.push_instances(source, [instance(x)]);
+            }
+        }
+    }
+    Ok(build)
+}
