@@ -83,8 +83,8 @@ impl InstanceTransform {
         let t = Vec3::from(self.to_world.translation).abs();
         let t_inv = Vec3::from(self.to_object.translation).abs();
         let p = self.to_world.transform_point3(si.p);
-        let forward = (1.0 + gamma(3)) * (abs_linear * si.p_error)
-            + gamma(3) * (abs_linear * si.p.abs() + t);
+        let forward =
+            (1.0 + gamma(3)) * (abs_linear * si.p_error) + gamma(3) * (abs_linear * si.p.abs() + t);
         // The origin the next ray starts from lies within `forward` of `p` (plus the offset, which
         // is of the same size): bound its coordinates by twice that, conservatively.
         let origin = p.abs() + 2.0 * forward;

@@ -87,6 +87,13 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
         return None;
     }
 
+    // The shear's rounding (the x and y error terms below) grows with the vertices' z before it is
+    // divided by the direction's z: |sx|, |sy| <= 1 because z is the largest component, so the
+    // shear adds at most |z|. pbrt-v4 uses the z after the division, which is the same for a unit
+    // direction up to a factor of sqrt(3) but wrong by |d| for others: 10^4 times too large for the
+    // short directions of rays taken into a 10^4-times scaled instance (rejecting every hit), and
+    // too small for the long, unnormalized shadow rays of a 10^4-times scaled scene.
+    let max_z_unscaled = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();
     p0t.z *= sz;
     p1t.z *= sz;
     p2t.z *= sz;
@@ -115,8 +122,8 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
     let delta_z = gamma(3) * max_zt;
     let max_xt = Vec3::new(p0t.x, p1t.x, p2t.x).abs().max_element();
     let max_yt = Vec3::new(p0t.y, p1t.y, p2t.y).abs().max_element();
-    let delta_x = gamma(5) * (max_xt + max_zt);
-    let delta_y = gamma(5) * (max_yt + max_zt);
+    let delta_x = gamma(5) * (max_xt + max_z_unscaled);
+    let delta_y = gamma(5) * (max_yt + max_z_unscaled);
     let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
     let max_e = Vec3::new(e0, e1, e2).abs().max_element();
     let delta_t =

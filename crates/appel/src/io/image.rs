@@ -17,7 +17,8 @@ pub struct Aovs {
 }
 
 impl Aovs {
-    pub const NAMES: &'static [&'static str] = &["depth", "normal", "shapeid", "primid", "instanceid"];
+    pub const NAMES: &'static [&'static str] =
+        &["depth", "normal", "shapeid", "primid", "instanceid"];
 
     /// Parses a comma-separated list such as `depth,normal,primid`. `primid` brings `shapeid` with it,
     /// since a primitive index means nothing without its shape.

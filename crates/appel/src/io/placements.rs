@@ -68,7 +68,10 @@ pub fn parse_placements(text: &str, origin: &Path) -> Result<Vec<Placement>> {
             Vec4::new(m[2], m[6], m[10], 0.0),
             Vec4::new(m[3], m[7], m[11], 1.0),
         );
-        out.push(Placement { to_world, line: i + 1 });
+        out.push(Placement {
+            to_world,
+            line: i + 1,
+        });
     }
     Ok(out)
 }
@@ -102,7 +105,11 @@ mod tests {
             Quat::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 0.77),
             Vec3::new(-1e4, 3.25, 1e-3),
         );
-        let text = format!("# header\n\n{}{}", placement_line(&m), placement_line(&Mat4::IDENTITY));
+        let text = format!(
+            "# header\n\n{}{}",
+            placement_line(&m),
+            placement_line(&Mat4::IDENTITY)
+        );
         let p = parse_placements(&text, Path::new("p.txt")).unwrap();
         assert_eq!(p.len(), 2);
         assert_eq!(p[0].to_world, m);
@@ -116,10 +123,22 @@ mod tests {
     #[test]
     fn bad_lines_name_their_line_and_column() {
         for (bad, expected) in [
-            ("1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1\n", "p.txt:2: expected twelve"),
-            ("1 0 0 0 0 1 0 x 0 0 1 0\n", "p.txt:1:15: expected a finite number, got `x`"),
-            ("\n1 0 0 0 0 1 0 0 0 0 1 inf\n", "p.txt:2:23: expected a finite"),
-            ("1 0 0 0 0 1 0 0 0 0 1 0 1\n", "p.txt:1:25: more than twelve"),
+            (
+                "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1\n",
+                "p.txt:2: expected twelve",
+            ),
+            (
+                "1 0 0 0 0 1 0 x 0 0 1 0\n",
+                "p.txt:1:15: expected a finite number, got `x`",
+            ),
+            (
+                "\n1 0 0 0 0 1 0 0 0 0 1 inf\n",
+                "p.txt:2:23: expected a finite",
+            ),
+            (
+                "1 0 0 0 0 1 0 0 0 0 1 0 1\n",
+                "p.txt:1:25: more than twelve",
+            ),
         ] {
             let e = parse_placements(bad, Path::new("p.txt"))
                 .unwrap_err()

@@ -210,7 +210,10 @@ impl Geometry {
     /// Triangles stored: the scene's meshes and the prototypes', each counted once however often it
     /// is instanced.
     pub fn triangle_count(&self) -> usize {
-        self.meshes.iter().map(|m| m.triangle_count()).sum::<usize>()
+        self.meshes
+            .iter()
+            .map(|m| m.triangle_count())
+            .sum::<usize>()
             + self
                 .prototypes
                 .iter()
@@ -230,7 +233,11 @@ impl Geometry {
             .iter()
             .map(|i| per_prototype[i.prototype as usize])
             .sum();
-        self.meshes.iter().map(|m| m.triangle_count() as u64).sum::<u64>() + instanced
+        self.meshes
+            .iter()
+            .map(|m| m.triangle_count() as u64)
+            .sum::<u64>()
+            + instanced
     }
 
     /// Bounds of everything bounded.

@@ -258,7 +258,12 @@ impl Scene {
             settings.accel,
             &mut geometry,
             &mut materials,
-            |m| names.iter().position(|n| *n == m).map_or(0, |i| i as u32 + 1),
+            |m| {
+                names
+                    .iter()
+                    .position(|n| *n == m)
+                    .map_or(0, |i| i as u32 + 1)
+            },
         )?;
         let load = load_start.elapsed() - prototype_build;
         let build_start = Instant::now();

@@ -454,7 +454,11 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
         }
     };
     for (name, m) in &d.meshes {
-        exists(&m.file, "mesh file", vec![key("meshes"), key(name), key("file")])?;
+        exists(
+            &m.file,
+            "mesh file",
+            vec![key("meshes"), key(name), key("file")],
+        )?;
     }
     for (i, inst) in d.instances.iter().enumerate() {
         if let Some(f) = &inst.placements {
