@@ -5,6 +5,7 @@ mod bench_cmd;
 mod convert_cmd;
 mod gen_cmd;
 mod inside_cmd;
+mod memory;
 mod render_cmd;
 mod scene_args;
 mod scenes_cmd;

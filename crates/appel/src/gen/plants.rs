@@ -10,6 +10,8 @@ use crate::geometry::procedural::SplitMix64;
 use crate::math::{orthonormal_basis, Vec3};
 
 const GOLDEN_ANGLE: f32 = 2.399_963;
+/// Leaves (or blades, leaflets) every plant gets even when its wood used up the budget.
+const MIN_LEAVES: usize = 20;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
@@ -147,7 +149,8 @@ fn leaves(
     rng: &mut SplitMix64,
 ) {
     let per_leaf = MeshBuilder::leaf_triangles(s.leaf_segments);
-    let count = budget / per_leaf;
+    // However small the budget, a plant keeps some foliage (and its mesh some triangles).
+    let count = (budget / per_leaf).max(MIN_LEAVES);
     if sites.is_empty() {
         return;
     }
@@ -329,7 +332,7 @@ fn fern(budget: usize, rng: &mut SplitMix64) -> Plant {
     }
     // Leaflets in pairs, perpendicular to the frond, shorter towards its tip.
     let per_leaf = MeshBuilder::leaf_triangles(3);
-    let count = budget.saturating_sub(wood.triangle_count()) / per_leaf;
+    let count = (budget.saturating_sub(wood.triangle_count()) / per_leaf).max(MIN_LEAVES);
     for k in 0..count {
         let site = sites[k % sites.len()];
         let along = (k / sites.len()) as f32 / (count / sites.len()).max(1) as f32;
@@ -398,7 +401,7 @@ fn grass(budget: usize, rng: &mut SplitMix64) -> Plant {
     }
     let mut foliage = MeshBuilder::default();
     let per_blade = MeshBuilder::leaf_triangles(6);
-    let blades = budget.saturating_sub(wood.triangle_count()) / per_blade;
+    let blades = (budget.saturating_sub(wood.triangle_count()) / per_blade).max(MIN_LEAVES);
     for _ in 0..blades {
         let a = rng.next_f32() * std::f32::consts::TAU;
         let r = 0.08 * rng.next_f32().sqrt();
@@ -412,7 +415,8 @@ fn grass(budget: usize, rng: &mut SplitMix64) -> Plant {
     Plant { wood, foliage }
 }
 
-/// A plant of `kind` with about `budget` triangles (never more), shaped by `seed`.
+/// A plant of `kind` with about `budget` triangles (more only for budgets too small for its wood
+/// and a few leaves), shaped by `seed`.
 pub fn plant(kind: Kind, budget: usize, seed: u64) -> Plant {
     let mut rng = SplitMix64(seed);
     match kind {

@@ -3,11 +3,13 @@
 use super::description::Description;
 use super::instance::{Instance, Prototype};
 use super::mesh_shape::add_mesh_file;
+use super::progress::Steps;
 use super::{Geometry, Material};
 use crate::accel::AccelKind;
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
 use crate::io::placements::read_placements;
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -22,9 +24,10 @@ pub(super) fn add_instances(
     geometry: &mut Geometry,
     materials: &mut Vec<Material>,
     material_index: impl Fn(&str) -> u32,
+    steps: &Steps,
 ) -> Result<Duration> {
-    let mut build = Duration::ZERO;
     let mut prototype_of: BTreeMap<&str, u32> = BTreeMap::new();
+    let mut loaded = vec![];
     for entry in &d.instances {
         if prototype_of.contains_key(entry.mesh.as_str()) {
             continue;
@@ -41,13 +44,24 @@ pub(super) fn add_instances(
             None,
             material,
         )?;
-        let start = Instant::now();
-        geometry
-            .prototypes
-            .push(Prototype::new(mesh_geometry, kind));
-        build += start.elapsed();
-        prototype_of.insert(&entry.mesh, geometry.prototypes.len() as u32 - 1);
+        steps.step(&format!("read {}", m.file))?;
+        loaded.push((&m.file, mesh_geometry));
+        prototype_of.insert(&entry.mesh, loaded.len() as u32 - 1);
     }
+    // The prototypes' structures are independent: build them side by side (each also splits its
+    // own large nodes in parallel).
+    let start = Instant::now();
+    let built: Result<Vec<Prototype>> = loaded
+        .into_par_iter()
+        .map(|(file, g)| {
+            steps.check()?;
+            let p = Prototype::new(g, kind);
+            steps.step(&format!("built the structure of {file}"))?;
+            Ok(p)
+        })
+        .collect();
+    geometry.prototypes = built?;
+    let build = start.elapsed();
     for (k, entry) in d.instances.iter().enumerate() {
         let prototype = prototype_of[entry.mesh.as_str()];
         let source = (d.shapes.len() + k) as u32;

@@ -10,8 +10,10 @@ mod instance;
 mod instance_entries;
 mod light;
 mod material;
+mod memory;
 mod mesh_shape;
 pub mod parse;
+mod progress;
 pub mod validate;
 
 pub use camera::Camera;
@@ -21,6 +23,8 @@ pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind, ShapeSource, N
 pub use instance::{Instance, Prototype};
 pub use light::Light;
 pub use material::{Checker, Material};
+pub use memory::{estimate_memory, MemoryEstimate};
+pub use progress::{LoadStep, SceneOptions};
 
 use crate::accel::{Accel, AccelKind, AccelStats, TraversalStats};
 use crate::error::{Error, Location, Result};
@@ -147,7 +151,19 @@ fn path_string(path: &[PathSeg]) -> String {
 impl Scene {
     /// Builds a scene from a validated description. `base_dir` resolves relative file names.
     pub fn new(d: &Description, base_dir: &Path) -> Result<Scene> {
+        Self::new_with(d, base_dir, SceneOptions::default())
+    }
+
+    /// [`Self::new`], reporting each file read and structure built, and stopping when cancelled.
+    pub fn new_with(d: &Description, base_dir: &Path, options: SceneOptions) -> Result<Scene> {
         let load_start = Instant::now();
+        let used_meshes = d
+            .meshes
+            .keys()
+            .filter(|name| d.instances.iter().any(|i| &i.mesh == *name))
+            .count() as u64;
+        let mesh_shapes = d.shapes.iter().filter(|s| s.file.is_some()).count() as u64;
+        let steps = progress::Steps::new(options, mesh_shapes + 2 * used_meshes + 1);
         let settings = RenderSettings {
             integrator: match d.render.integrator.as_str() {
                 "raycast" => IntegratorKind::Raycast,
@@ -244,6 +260,7 @@ impl Scene {
                         s.transform.as_ref(),
                         s.material.is_some().then_some(material),
                     )?;
+                    steps.step(&format!("read {file}"))?;
                 }
                 other => return Err(Error::Invalid(format!("unknown shape type `{other}`"))),
             }
@@ -264,11 +281,13 @@ impl Scene {
                     .position(|n| *n == m)
                     .map_or(0, |i| i as u32 + 1)
             },
+            &steps,
         )?;
         let load = load_start.elapsed() - prototype_build;
         let build_start = Instant::now();
         let accel = Accel::build(settings.accel, &geometry);
         let build = build_start.elapsed() + prototype_build;
+        steps.step("built the top-level structure")?;
         Ok(Scene {
             camera: Camera::new(&d.camera),
             settings,
