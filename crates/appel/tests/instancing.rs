@@ -115,7 +115,7 @@ fn random_transform(rng: &mut SplitMix64) -> glam::Mat4 {
     let axis = (rng.in_box(Vec3::splat(-1.0), Vec3::splat(1.0)) + Vec3::splat(1e-3)).normalize();
     glam::Mat4::from_scale_rotation_translation(
         rng.in_box(Vec3::splat(0.3), Vec3::splat(2.0)),
-        glam::Quat::from_axis_angle(axis, rng.next_f32() * 6.28),
+        glam::Quat::from_axis_angle(axis, rng.next_f32() * std::f32::consts::TAU),
         rng.in_box(Vec3::splat(-6.0), Vec3::splat(6.0)),
     )
 }
