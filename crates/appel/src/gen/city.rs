@@ -98,8 +98,9 @@ pub fn city(target: usize, seed: u64) -> (MeshBuilder, f32) {
                 );
                 let w = 0.5 * BLOCK * (0.6 + 0.3 * rng.next_f32());
                 let d = 0.5 * BLOCK * (0.6 + 0.3 * rng.next_f32());
-                let tall = 60.0 / (1.0 + 0.5 * centre);
-                let floors = (4.0 + tall * rng.next_f32().powi(2)) as u32;
+                // Towers in the middle, low blocks at the edge.
+                let tall = 25.0 + 90.0 / (1.0 + 0.4 * centre);
+                let floors = (5.0 + tall * rng.next_f32().powi(2)) as u32;
                 let inset = Vec3::new(0.5 * (0.5 * BLOCK - w), 0.0, 0.5 * (0.5 * BLOCK - d));
                 building(&mut b, block + Vec3::new(lx, 0.0, lz) + inset, w, d, floors);
             }

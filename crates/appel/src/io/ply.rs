@@ -255,7 +255,7 @@ pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
             material: None,
             file_triangles: None,
         }],
-        materials: vec![],
+        ..Default::default()
     })
 }
 

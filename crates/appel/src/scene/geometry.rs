@@ -139,7 +139,8 @@ impl Geometry {
                 instance: NO_INSTANCE,
                 ..*hit
             });
-            return (self.instances[hit.instance as usize].source, prim);
+            let instance = &self.instances[hit.instance as usize];
+            return (instance.source, instance.first_prim + prim);
         }
         let src = &self.shapes[hit.shape as usize].source;
         let prim = match &src.prim_table {

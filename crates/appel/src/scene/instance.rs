@@ -23,8 +23,13 @@ pub struct Instance {
     pub transform: InstanceTransform,
     /// Index into [`Geometry::prototypes`].
     pub prototype: u32,
-    /// The `shapeid` its hits report: the number of its `[[instance]]` entry.
+    /// The `shapeid` its hits report: the number of its `[[instance]]` entry (or of the
+    /// `[[shape]]` whose file placed it).
     pub source: u32,
+    /// Added to the prototype's triangle index for the `primid` its hits report: 0 for
+    /// `[[instance]]` entries, the placement's first triangle in the file's order for meshes a
+    /// glTF file places several times.
+    pub first_prim: u32,
 }
 
 impl Prototype {

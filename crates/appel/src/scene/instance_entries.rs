@@ -28,6 +28,8 @@ pub(super) fn add_instances(
 ) -> Result<Duration> {
     let mut prototype_of: BTreeMap<&str, u32> = BTreeMap::new();
     let mut loaded = vec![];
+    // Mesh files of `[[shape]]`s may already have made prototypes (glTF nodes sharing a mesh).
+    let base = geometry.prototypes.len() as u32;
     for entry in &d.instances {
         if prototype_of.contains_key(entry.mesh.as_str()) {
             continue;
@@ -43,10 +45,17 @@ pub(super) fn add_instances(
             &base_dir.join(&m.file),
             None,
             material,
+            kind,
         )?;
+        if !mesh_geometry.instances.is_empty() {
+            return Err(Error::input(
+                Location::file(base_dir.join(&m.file)),
+                "this file places a mesh several times itself; instances of instances are not supported",
+            ));
+        }
         steps.step(&format!("read {}", m.file))?;
         loaded.push((&m.file, mesh_geometry));
-        prototype_of.insert(&entry.mesh, loaded.len() as u32 - 1);
+        prototype_of.insert(&entry.mesh, base + loaded.len() as u32 - 1);
     }
     // The prototypes' structures are independent: build them side by side (each also splits its
     // own large nodes in parallel).
@@ -60,7 +69,7 @@ pub(super) fn add_instances(
             Ok(p)
         })
         .collect();
-    geometry.prototypes = built?;
+    geometry.prototypes.extend(built?);
     let build = start.elapsed();
     for (k, entry) in d.instances.iter().enumerate() {
         let prototype = prototype_of[entry.mesh.as_str()];
@@ -69,6 +78,7 @@ pub(super) fn add_instances(
             transform,
             prototype,
             source,
+            first_prim: 0,
         };
         match &entry.placements {
             Some(file) => {

@@ -189,6 +189,7 @@ impl Scene {
         let mut geometry = Geometry::new(triangle_test);
         for (index, s) in d.shapes.iter().enumerate() {
             let first_new_shape = geometry.shapes.len();
+            let first_new_instance = geometry.instances.len();
             let material = s
                 .material
                 .as_ref()
@@ -259,6 +260,7 @@ impl Scene {
                         &base_dir.join(file),
                         s.transform.as_ref(),
                         s.material.is_some().then_some(material),
+                        settings.accel,
                     )?;
                     steps.step(&format!("read {file}"))?;
                 }
@@ -267,6 +269,9 @@ impl Scene {
             // A mesh file may have become several surfaces: all report this `[[shape]]`.
             for shape in &mut geometry.shapes[first_new_shape..] {
                 shape.source.shape = index as u32;
+            }
+            for instance in &mut geometry.instances[first_new_instance..] {
+                instance.source = index as u32;
             }
         }
         let prototype_build = instance_entries::add_instances(
