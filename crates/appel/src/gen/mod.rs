@@ -67,7 +67,7 @@ pub fn city_scene(dir: &Path, options: &GenOptions, log: &dyn Fn(&str)) -> Resul
         r#"# `appel gen city --seed {seed}`: {triangles} triangles in one mesh, no instancing.
 [camera]
 eye = [{ex}, {ey}, {ez}]
-look_at = [0.0, 60.0, 0.0]
+look_at = [0.0, 90.0, 0.0]
 fov = 50.0
 width = 1920
 height = 1080
@@ -110,9 +110,9 @@ direction = [-0.55, -0.45, -0.7]
 intensity = 1.1
 "#,
         seed = options.seed,
-        ex = 0.55 * e,
-        ey = 0.22 * e,
-        ez = 0.75 * e,
+        ex = 0.8 * e,
+        ey = 0.4 * e,
+        ez = 1.05 * e,
         size = 2.2 * e,
     );
     crate::io::write_atomically(&dir.join("city.toml"), |out| {
