@@ -24,7 +24,7 @@ impl MeshBuilder {
         }
     }
 
-    fn vertex(&mut self, p: Vec3) -> u32 {
+    pub fn vertex(&mut self, p: Vec3) -> u32 {
         self.positions.push(p);
         self.positions.len() as u32 - 1
     }
@@ -37,6 +37,12 @@ impl MeshBuilder {
         self.vertex(d);
         self.indices.push([i, i + 1, i + 2]);
         self.indices.push([i, i + 2, i + 3]);
+    }
+
+    /// A quad of existing vertices `a b c d` (counter-clockwise seen from its front).
+    pub fn quad_indices(&mut self, a: u32, b: u32, c: u32, d: u32) {
+        self.indices.push([a, b, c]);
+        self.indices.push([a, c, d]);
     }
 
     /// Triangles of a tube through `path` with `sides` faces around: `2 * sides` per segment.

@@ -20,25 +20,48 @@ fn facade(b: &mut MeshBuilder, o: Vec3, right: Vec3, w: f32, floors: u32, depth:
     for f in 0..floors {
         for c in 0..cols {
             let p = o + right * (c as f32 * cw) + up * (f as f32 * CELL_H);
-            let at = |x: f32, y: f32| p + right * x + up * y;
             let (x0, x1, y0, y1) = (mx, cw - mx, my, CELL_H - 0.6 * my);
+            // Sixteen shared corners: the cell's outline at the heights of the window's sill and
+            // head, the window's opening in the wall, and the pane set back by `depth`.
+            let mut v = |x: f32, y: f32, back: bool| {
+                let d = if back { inward * depth } else { Vec3::ZERO };
+                b.vertex(p + right * x + up * y + d)
+            };
+            let [o00, o10, o01, o11] = [
+                v(0.0, 0.0, false),
+                v(cw, 0.0, false),
+                v(0.0, CELL_H, false),
+                v(cw, CELL_H, false),
+            ];
+            let [l0, r0, l1, r1] = [
+                v(0.0, y0, false),
+                v(cw, y0, false),
+                v(0.0, y1, false),
+                v(cw, y1, false),
+            ];
+            let [w00, w10, w01, w11] = [
+                v(x0, y0, false),
+                v(x1, y0, false),
+                v(x0, y1, false),
+                v(x1, y1, false),
+            ];
+            let [p00, p10, p01, p11] = [
+                v(x0, y0, true),
+                v(x1, y0, true),
+                v(x0, y1, true),
+                v(x1, y1, true),
+            ];
             // The wall around the window.
-            b.quad(at(0.0, 0.0), at(cw, 0.0), at(cw, y0), at(0.0, y0));
-            b.quad(at(0.0, y1), at(cw, y1), at(cw, CELL_H), at(0.0, CELL_H));
-            b.quad(at(0.0, y0), at(x0, y0), at(x0, y1), at(0.0, y1));
-            b.quad(at(x1, y0), at(cw, y0), at(cw, y1), at(x1, y1));
-            // The reveal: four faces from the wall back to the pane.
-            let d = inward * depth;
-            b.quad(at(x0, y0), at(x0, y0) + d, at(x1, y0) + d, at(x1, y0));
-            b.quad(at(x1, y1), at(x1, y1) + d, at(x0, y1) + d, at(x0, y1));
-            b.quad(at(x0, y1), at(x0, y1) + d, at(x0, y0) + d, at(x0, y0));
-            b.quad(at(x1, y0), at(x1, y0) + d, at(x1, y1) + d, at(x1, y1));
-            b.quad(
-                at(x0, y0) + d,
-                at(x0, y1) + d,
-                at(x1, y1) + d,
-                at(x1, y0) + d,
-            );
+            b.quad_indices(o00, o10, r0, l0);
+            b.quad_indices(l1, r1, o11, o01);
+            b.quad_indices(l0, w00, w01, l1);
+            b.quad_indices(w10, r0, r1, w11);
+            // The reveal: four faces from the wall back to the pane, and the pane.
+            b.quad_indices(w00, p00, p10, w10);
+            b.quad_indices(w11, p11, p01, w01);
+            b.quad_indices(w01, p01, p00, w00);
+            b.quad_indices(w10, p10, p11, w11);
+            b.quad_indices(p00, p01, p11, p10);
         }
     }
 }
