@@ -59,6 +59,9 @@ pub(super) fn add_instances(
     }
     // The prototypes' structures are independent: build them side by side (each also splits its
     // own large nodes in parallel).
+    if !loaded.is_empty() {
+        steps.begin(&format!("building {} mesh structures", loaded.len()));
+    }
     let start = Instant::now();
     let built: Result<Vec<Prototype>> = loaded
         .into_par_iter()

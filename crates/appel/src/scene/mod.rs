@@ -289,6 +289,10 @@ impl Scene {
             &steps,
         )?;
         let load = load_start.elapsed() - prototype_build;
+        steps.begin(&format!(
+            "building the top-level structure ({} primitives)",
+            geometry.prims.len()
+        ));
         let build_start = Instant::now();
         let accel = Accel::build(settings.accel, &geometry);
         let build = build_start.elapsed() + prototype_build;

@@ -9,7 +9,8 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 pub struct LoadStep<'a> {
     pub done: u64,
     pub total: u64,
-    /// What was just done, such as `read oak-wood.ply` or `built the top-level structure`.
+    /// What was just done, such as `read oak-wood.ply`, or what is starting, such as
+    /// `building the top-level structure`.
     pub what: &'a str,
 }
 
@@ -49,6 +50,18 @@ impl<'a> Steps<'a> {
             });
         }
         self.check()
+    }
+
+    /// Announces a long step before it starts (the count stays), so a progress display does not
+    /// show the previous step while this one runs.
+    pub fn begin(&self, what: &str) {
+        if let Some(p) = self.options.progress {
+            p(&LoadStep {
+                done: self.done.load(Ordering::Relaxed),
+                total: self.total,
+                what,
+            });
+        }
     }
 
     pub fn check(&self) -> Result<()> {
