@@ -17,9 +17,10 @@ const PER_VERTEX: u64 = 12 + 12 + 8;
 /// The BVH builder's scratch, per primitive of the structure being built (bounds and indices,
 /// docs/accel.md); one structure is built at a time, so only the largest counts.
 const BUILD_SCRATCH: u64 = 40;
-/// Per instance: its two affine maps and ids (144), its primitive reference (8) and its share of
-/// the top-level BVH (36).
-const PER_INSTANCE: u64 = 144 + 8 + 36;
+/// Per instance: its two affine maps and ids (144), its primitive reference (8), its share of
+/// the top-level BVH (36), and its parsed placement (72) while the instances are made (measured:
+/// 285 bytes per instance at the peak for a million of them, docs/performance.md).
+const PER_INSTANCE: u64 = 144 + 8 + 36 + 72;
 /// Per pixel: the film (RGB, depth, normal, three ids: 44) and the finished tiles before they are
 /// copied into it (another 44).
 const PER_PIXEL: u64 = 88;
@@ -56,12 +57,22 @@ fn mesh_counts(path: &Path) -> Result<(u64, u64)> {
     }
 }
 
-/// Placements in a list, counted from its size (each line is at least 24 bytes) without parsing.
+/// Placements in a list: its lines, counted without parsing them (an upper bound: comments and
+/// blank lines count too).
 fn placement_count(path: &Path) -> Result<u64> {
-    let size = std::fs::metadata(path)
-        .map_err(|e| crate::error::Error::io(path, e))?
-        .len();
-    Ok(size / 24)
+    use std::io::Read;
+    let mut file = std::fs::File::open(path).map_err(|e| crate::error::Error::io(path, e))?;
+    let mut buf = vec![0u8; 1 << 20];
+    let mut lines = 1;
+    loop {
+        let n = file
+            .read(&mut buf)
+            .map_err(|e| crate::error::Error::io(path, e))?;
+        if n == 0 {
+            return Ok(lines);
+        }
+        lines += buf[..n].iter().filter(|&&b| b == b'\n').count() as u64;
+    }
 }
 
 /// Estimates the peak memory of loading, building and rendering `d` (files relative to
