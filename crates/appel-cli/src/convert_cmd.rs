@@ -1,8 +1,8 @@
-use crate::scene_args::load_scene;
+use crate::scene_args::load_scene_with;
 use anyhow::{bail, Result};
 use appel::geometry::TriangleMesh;
 use appel::math::Vec3;
-use appel::scene::{SceneHit, ShapeKind, NO_INSTANCE};
+use appel::scene::{SceneHit, SceneOptions, ShapeKind, NO_INSTANCE};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -26,10 +26,11 @@ pub fn run(args: ConvertArgs) -> Result<()> {
             args.output.display()
         );
     }
-    let (scene, _) = load_scene(Some(&args.input), |d| {
-        d.render.accel = "brute".into();
-        Ok(())
-    })?;
+    let skip = SceneOptions {
+        skip_top_level: true,
+        ..Default::default()
+    };
+    let (scene, _) = load_scene_with(Some(&args.input), |_| Ok(()), skip)?;
     // One mesh per `[[shape]]`, its triangles in the source file's order, so that a triangle's index
     // in the output is its `[[shape]]`'s offset plus its `primid`. Instances are flattened: one
     // mesh per `[[instance]]` entry, its placements one after the other.

@@ -107,6 +107,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let scene_options = SceneOptions {
         progress: Some(&step),
         cancel: Some(&cancel),
+        ..Default::default()
     };
     let loaded = pool.install(|| {
         load_scene_with(

@@ -164,6 +164,7 @@ impl Scene {
             .count() as u64;
         let mesh_shapes = d.shapes.iter().filter(|s| s.file.is_some()).count() as u64;
         let steps = progress::Steps::new(options, mesh_shapes + 2 * used_meshes + 1);
+        let skip_top_level = options.skip_top_level;
         let settings = RenderSettings {
             integrator: match d.render.integrator.as_str() {
                 "raycast" => IntegratorKind::Raycast,
@@ -294,7 +295,12 @@ impl Scene {
             geometry.prims.len()
         ));
         let build_start = Instant::now();
-        let accel = Accel::build(settings.accel, &geometry);
+        let top_level = if skip_top_level {
+            AccelKind::Brute
+        } else {
+            settings.accel
+        };
+        let accel = Accel::build(top_level, &geometry);
         let build = build_start.elapsed() + prototype_build;
         steps.step("built the top-level structure")?;
         Ok(Scene {

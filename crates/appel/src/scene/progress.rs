@@ -21,6 +21,10 @@ pub struct SceneOptions<'a> {
     pub progress: Option<&'a (dyn Fn(&LoadStep) + Sync)>,
     /// When set, building stops at the next step and returns [`Error::Cancelled`].
     pub cancel: Option<&'a AtomicBool>,
+    /// Leave the scene's top-level structure unbuilt (brute force, which costs nothing to build):
+    /// for tools that build their own over the geometry, such as `appel bench`. The declared
+    /// meshes' structures are still built, of the scene's kind.
+    pub skip_top_level: bool,
 }
 
 /// Counts steps and forwards them.
