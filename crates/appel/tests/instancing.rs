@@ -401,6 +401,16 @@ fn bad_instance_entries_are_located() {
         e.starts_with("/p.txt:2: the placement's matrix is not invertible"),
         "{e}"
     );
+    std::fs::write(
+        dir.path().join("far.txt"),
+        "1 0 0 3.4028234e38 0 1 0 0 0 0 1 0\n",
+    )
+    .unwrap();
+    let e = err("[[instance]]\nmesh = \"lump\"\nplacements = \"far.txt\"\n");
+    assert!(
+        e.starts_with("/far.txt:1: the placement moves the mesh beyond the range of f32"),
+        "{e}"
+    );
     let e = err("[meshes.other]\nfile = \"missing.ply\"\n");
     assert!(
         e.starts_with("/s.toml:9:8: meshes.other.file: the mesh file"),

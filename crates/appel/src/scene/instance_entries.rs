@@ -14,6 +14,15 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+const TOO_FAR: &str = "the placement moves the mesh beyond the range of f32";
+
+/// Whether the placed mesh's world bounds are finite (a huge scale or translation could overflow
+/// them, and the structure's build and traversal need finite boxes).
+fn fits(x: &InstanceTransform, bounds: crate::math::Aabb) -> bool {
+    let b = x.bounds_to_world(bounds);
+    b.min.is_finite() && b.max.is_finite()
+}
+
 /// Loads every declared mesh that an instance uses, builds its structure, and adds the instances
 /// (their `shapeid` continues the numbering of the `[[shape]]` entries). Returns the time spent
 /// building the prototypes' structures, which belongs to the build phase, not loading.
@@ -76,6 +85,7 @@ pub(super) fn add_instances(
     let build = start.elapsed();
     for (k, entry) in d.instances.iter().enumerate() {
         let prototype = prototype_of[entry.mesh.as_str()];
+        let bounds = geometry.prototypes[prototype as usize].bounds;
         let source = (d.shapes.len() + k) as u32;
         let instance = |transform| Instance {
             transform,
@@ -95,6 +105,9 @@ pub(super) fn add_instances(
                             "the placement's matrix is not invertible",
                         ));
                     };
+                    if !fits(&x, bounds) {
+                        return Err(Error::input(Location::line(&path, p.line, None), TOO_FAR));
+                    }
                     instances.push(instance(x));
                 }
                 geometry.push_instances(source, instances);
@@ -107,6 +120,9 @@ pub(super) fn add_instances(
                 let x = InstanceTransform::new(m).ok_or_else(|| {
                     Error::Invalid(format!("instance {k}'s transform is not invertible"))
                 })?;
+                if !fits(&x, bounds) {
+                    return Err(Error::Invalid(format!("instance {k}: {TOO_FAR}")));
+                }
                 geometry.push_instances(source, [instance(x)]);
             }
         }

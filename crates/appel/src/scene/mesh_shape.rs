@@ -70,6 +70,14 @@ pub(super) fn add_mesh_file(
                 "a node placing a shared mesh has a transform that cannot be inverted",
             ));
         };
+        let bounds = geometry.prototypes[(first_prototype + p.mesh) as usize].bounds;
+        let world = transform.bounds_to_world(bounds);
+        if !(world.min.is_finite() && world.max.is_finite()) {
+            return Err(Error::input(
+                Location::file(path),
+                "a node moves a shared mesh beyond the range of f32",
+            ));
+        }
         instances.push(Instance {
             transform,
             prototype: first_prototype + p.mesh,
