@@ -135,8 +135,21 @@ pub fn ecosystem(dir: &Path, options: &GenOptions, log: &dyn Fn(&str)) -> Result
         })
         .max_by(|a, b| a.y.total_cmp(&b.y))
         .unwrap_or(Vec3::Y);
-    let look = Vec3::new(0.05 * SIZE, 0.0, -0.1 * SIZE);
-    let look = Vec3::new(look.x, terrain.height(look.x, look.z) + 4.0, look.z);
+    // It looks towards the nearest lake, so that reflections show.
+    let look = (0..1600)
+        .map(|k| {
+            let x = (-0.3 + 0.6 * (k % 40) as f32 / 39.0) * SIZE;
+            let z = (-0.3 + 0.6 * (k / 40) as f32 / 39.0) * SIZE;
+            Vec3::new(x, terrain.height(x, z), z)
+        })
+        .filter(|p| p.y < water)
+        .min_by(|a, b| {
+            let d = |p: &Vec3| (p.x - eye.x).hypot(p.z - eye.z);
+            d(a).total_cmp(&d(b))
+        })
+        .map_or(Vec3::new(0.0, water, 0.0), |p| {
+            Vec3::new(p.x, water + 3.0, p.z)
+        });
 
     let mut scene = format!(
         "# `appel gen ecosystem --seed {seed} --density {} --detail {}`\n\
