@@ -3,6 +3,8 @@
 use anyhow::{bail, Context, Result};
 use appel::gen::{city_scene, ecosystem, GenOptions};
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 #[derive(clap::Args)]
@@ -44,14 +46,32 @@ pub fn run(args: GenArgs) -> Result<()> {
     };
     let start = Instant::now();
     let quiet = args.quiet;
-    let log = move |m: &str| {
+    // Ctrl-C stops at the next step: the file being written is finished (files are written whole
+    // or not at all) and the scene file, written last, is not.
+    let cancel = Arc::new(AtomicBool::new(false));
+    {
+        let cancel = cancel.clone();
+        let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::SeqCst));
+    }
+    let step = |m: &str| -> appel::Result<()> {
+        if cancel.load(Ordering::SeqCst) {
+            return Err(appel::Error::Cancelled);
+        }
         if !quiet {
             eprintln!("[{:6.1} s] {m}", start.elapsed().as_secs_f64());
         }
+        Ok(())
     };
     let report = match args.scene.as_str() {
-        "ecosystem" => ecosystem(&args.output, &options, &log)?,
-        _ => city_scene(&args.output, &options, &log)?,
+        "ecosystem" => ecosystem(&args.output, &options, &step),
+        _ => city_scene(&args.output, &options, &step),
+    };
+    let report = match report {
+        Err(appel::Error::Cancelled) => bail!(
+            "interrupted: the files written so far in {} are whole, but the scene file was not written",
+            args.output.display()
+        ),
+        r => r?,
     };
     println!(
         "{}: {} unique triangles, {} instanced triangles, {} instances, {} files, {:.1} s",

@@ -190,3 +190,31 @@ fn ctrl_c_stops_promptly_and_leaves_no_file() {
         assert!(left.is_empty(), "left {left:?}");
     }
 }
+
+#[test]
+fn ctrl_c_stops_gen_without_a_scene_file_or_a_partial_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_appel"))
+        .args(["gen", "ecosystem", "-o", "eco", "--detail", "0.3", "-q"])
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(250));
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let status = child.wait().unwrap();
+    let names: Vec<String> = std::fs::read_dir(dir.path().join("eco"))
+        .map(|d| {
+            d.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    assert!(!names.iter().any(|n| n.contains(".tmp")), "{names:?}");
+    if !status.success() {
+        assert!(!names.contains(&"ecosystem.toml".to_string()), "{names:?}");
+    }
+}

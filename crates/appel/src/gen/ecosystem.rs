@@ -106,11 +106,17 @@ fn material(name: &str, color: [f32; 3], extra: &str) -> String {
     )
 }
 
-/// Writes the ecosystem into `dir`; `log` hears about each step.
-pub fn ecosystem(dir: &Path, options: &GenOptions, log: &dyn Fn(&str)) -> Result<GenReport> {
+/// Writes the ecosystem into `dir`. `step` hears about each step before it starts, and stops the
+/// generator by returning an error (Ctrl-C); the scene file is written last, so a stopped run
+/// leaves no scene, and every file is written whole or not at all.
+pub fn ecosystem(
+    dir: &Path,
+    options: &GenOptions,
+    step: &dyn Fn(&str) -> Result<()>,
+) -> Result<GenReport> {
     let seed = options.seed;
     let n = ((GRID * options.detail.sqrt()) as usize).max(16);
-    log(&format!("terrain: {n} x {n} heights"));
+    step(&format!("terrain: {n} x {n} heights"))?;
     let terrain = Terrain::new(n, SIZE, seed);
     let mut report = GenReport {
         files: vec!["ecosystem.toml".into(), "terrain.ply".into()],
@@ -173,12 +179,12 @@ pub fn ecosystem(dir: &Path, options: &GenOptions, log: &dyn Fn(&str)) -> Result
         let count = (s.count as f64 * options.density).round() as usize;
         let placements = scatter(&terrain, water, s, count, species_seed, eye);
         let per_plant = (p.wood.triangle_count() + p.foliage.triangle_count()) as u64;
-        log(&format!(
+        step(&format!(
             "{}: {} triangles, {} placements",
             s.name,
             per_plant,
             placements.len()
-        ));
+        ))?;
         report.unique_triangles += per_plant;
         report.instanced_triangles += per_plant * placements.len() as u64;
         report.instances += 2 * placements.len() as u64;
@@ -210,6 +216,7 @@ pub fn ecosystem(dir: &Path, options: &GenOptions, log: &dyn Fn(&str)) -> Result
     scene += &meshes;
     scene += &instances;
     scene += "[[light]]\ntype = \"directional\"\ndirection = [0.7, -0.5, 0.25]\ncolor = [1.0, 0.95, 0.85]\nintensity = 1.0\n";
+    step("writing ecosystem.toml")?;
     write_text(&dir.join("ecosystem.toml"), &scene)?;
     Ok(report)
 }

@@ -52,14 +52,19 @@ pub struct GenReport {
     pub instances: u64,
 }
 
-/// The city: one binary PLY of at least `10^7 * detail` triangles and a scene file around it.
-pub fn city_scene(dir: &Path, options: &GenOptions, log: &dyn Fn(&str)) -> Result<GenReport> {
+/// The city: one binary PLY of at least `10^7 * detail` triangles and a scene file around it;
+/// `step` as for [`ecosystem`].
+pub fn city_scene(
+    dir: &Path,
+    options: &GenOptions,
+    step: &dyn Fn(&str) -> Result<()>,
+) -> Result<GenReport> {
     let target = (1e7 * options.detail).max(1000.0) as usize;
-    log(&format!("building a city of at least {target} triangles"));
+    step(&format!("building a city of at least {target} triangles"))?;
     let (mesh, extent) = city::city(target, options.seed);
     let mesh = mesh.into_mesh();
     let triangles = mesh.triangle_count() as u64;
-    log(&format!("writing city.ply ({triangles} triangles)"));
+    step(&format!("writing city.ply ({triangles} triangles)"))?;
     crate::io::write_ply(&dir.join("city.ply"), &[(0, &mesh)])?;
     drop(mesh);
     let e = extent;
@@ -115,6 +120,7 @@ intensity = 1.1
         ez = 1.05 * e,
         size = 2.2 * e,
     );
+    step("writing city.toml")?;
     crate::io::write_atomically(&dir.join("city.toml"), |out| {
         use std::io::Write;
         out.write_all(scene.as_bytes())
