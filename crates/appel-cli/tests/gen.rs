@@ -218,3 +218,69 @@ fn ctrl_c_stops_gen_without_a_scene_file_or_a_partial_file() {
         assert!(!names.contains(&"ecosystem.toml".to_string()), "{names:?}");
     }
 }
+
+#[test]
+fn exr_instanceid_channel_names_the_placement_hit() {
+    use exr::prelude::*;
+    let dir = tempfile::tempdir().unwrap();
+    // A unit triangle (in x, y) placed three times along x by a placement list, seen head-on.
+    std::fs::write(
+        dir.path().join("t.obj"),
+        "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0 0.5 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("row.txt"),
+        "1 0 0 -2 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 2 0 1 0 0 0 0 1 0\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("s.toml"),
+        "[camera]\neye = [0.0, 0.0, 8.0]\nlook_at = [0.0, 0.0, 0.0]\nwidth = 60\nheight = 20\nfov = 20.0\n\
+         [meshes.tri]\nfile = \"t.obj\"\n[[instance]]\nmesh = \"tri\"\nplacements = \"row.txt\"\n",
+    )
+    .unwrap();
+    let o = appel(
+        &[
+            "render",
+            "s.toml",
+            "-o",
+            "i.exr",
+            "--aov",
+            "instanceid,primid",
+            "--quiet",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let image = read_all_flat_layers_from_file(dir.path().join("i.exr")).unwrap();
+    let layer = &image.layer_data[0];
+    let channel = |n: &str| {
+        &layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == n)
+            .unwrap_or_else(|| panic!("no channel {n}"))
+            .sample_data
+    };
+    let (FlatSamples::U32(inst), FlatSamples::U32(shape)) =
+        (channel("instanceid"), channel("shapeid"))
+    else {
+        panic!("instanceid and shapeid must be uint32");
+    };
+    // The middle row crosses the three triangles left to right, with sky around them.
+    let row: Vec<u32> = inst[60 * 10..60 * 11].to_vec();
+    let mut seen: Vec<u32> = row.iter().copied().filter(|&i| i != u32::MAX).collect();
+    seen.dedup();
+    assert_eq!(seen, vec![0, 1, 2], "{row:?}");
+    assert_eq!(row[0], u32::MAX);
+    assert!(inst[..60].iter().all(|&i| i == u32::MAX), "top row is sky");
+    // The `[[instance]]` entry is shape 0 (there are no `[[shape]]`s).
+    for (i, s) in inst.iter().zip(shape.iter()) {
+        assert_eq!(*i == u32::MAX, *s == u32::MAX);
+        if *i != u32::MAX {
+            assert_eq!(*s, 0);
+        }
+    }
+}
