@@ -227,6 +227,7 @@ fn load_target(
         name: name.to_string(),
         geometry: scene.geometry,
         camera: scene.camera,
+        accel_options: scene.settings.accel_options,
     })
 }
 

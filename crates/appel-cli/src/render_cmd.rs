@@ -123,8 +123,17 @@ pub fn run(args: RenderArgs) -> Result<()> {
     phase.store(RENDERING, Ordering::SeqCst);
     if args.stats {
         let s = scene.accel_stats();
+        let layout = match &scene.accel {
+            appel::accel::Accel::Bvh(b) => format!(
+                " ({}-wide, {:?} splits)",
+                b.width(),
+                scene.settings.accel_options.bvh.split
+            )
+            .to_lowercase(),
+            _ => String::new(),
+        };
         eprintln!(
-            "accel {}: {} primitives, built in {:.3} ms, {} bytes, {} nodes, {} leaves, depth {}{}",
+            "accel {}{layout}: {} primitives, built in {:.3} ms, {} bytes, {} nodes, {} leaves, depth {}{}",
             s.name,
             s.primitives,
             s.build_time.as_secs_f64() * 1e3,

@@ -132,6 +132,35 @@ fn unknown_accel_and_integrator_are_rejected_with_the_choices() {
 }
 
 #[test]
+fn bad_structure_parameters_are_rejected_at_their_line() {
+    assert_rejected(
+        "w.toml",
+        &format!("{CAMERA}[render.bvh]\nwidth = 3\n"),
+        &["w.toml:5:9", "render.bvh.width", "2, 4 or 8, got 3"],
+    );
+    assert_rejected(
+        "s.toml",
+        &format!("{CAMERA}[render.bvh]\nsplit = \"octant\"\n"),
+        &["s.toml:5:9", "sah, midpoint, median"],
+    );
+    assert_rejected(
+        "g.toml",
+        &format!("{CAMERA}[render.grid]\ndensity = -1.0\n"),
+        &["g.toml:5:11", "render.grid.density"],
+    );
+    assert_rejected(
+        "k.toml",
+        &format!("{CAMERA}[render.kdtree]\nempty_bonus = 2.0\n"),
+        &["k.toml:5:15", "between 0 and 1"],
+    );
+    assert_rejected(
+        "u.toml",
+        &format!("{CAMERA}[render.bvh]\nleaves = 4\n"),
+        &["u.toml:5:1", "unknown field `leaves`"],
+    );
+}
+
+#[test]
 fn unknown_material_is_rejected() {
     let s = format!("{CAMERA}[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"gold\"\n");
     assert_rejected("m.toml", &s, &["m.toml:8:12", "unknown material `gold`"]);

@@ -19,6 +19,7 @@ fn main() {
         name: args[0].clone(),
         geometry: scene.geometry,
         camera: scene.camera,
+        accel_options: Default::default(),
     };
     let rays = BenchRays::new(&target);
     let g = &target.geometry;

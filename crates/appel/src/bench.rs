@@ -5,7 +5,7 @@
 mod embree;
 pub use embree::{bench_embree, flat_triangles, EmbreeBenchOptions, FlatTriangles};
 
-use crate::accel::{Accel, AccelKind, TraversalStats};
+use crate::accel::{Accel, AccelKind, AccelOptions, TraversalStats};
 use crate::geometry::procedural::{append, icosphere, scattered_triangles, stadium, SplitMix64};
 use crate::geometry::TriangleMesh;
 use crate::math::{offset_ray_origin, orthonormal_basis, Aabb, Ray, Vec3};
@@ -19,6 +19,8 @@ pub struct BenchTarget {
     pub name: String,
     pub geometry: Geometry,
     pub camera: Camera,
+    /// The structures' build parameters (a scene file's `[render.bvh]` and the like).
+    pub accel_options: AccelOptions,
 }
 
 /// Generated benchmark scenes.
@@ -71,6 +73,7 @@ pub fn bench_scene(name: &str, triangles: usize, width: u32, height: u32) -> Opt
         name: name.to_string(),
         geometry,
         camera,
+        accel_options: AccelOptions::default(),
     })
 }
 
@@ -258,7 +261,7 @@ pub fn bench_accel(
     let mut accel = None;
     for _ in 0..o.build_runs.max(1) {
         let start = Instant::now();
-        let a = Accel::build(kind, g);
+        let a = Accel::build_with(kind, g, &target.accel_options);
         builds.push(start.elapsed().as_secs_f64() * 1e3);
         accel = Some(a);
     }

@@ -2,7 +2,7 @@
 //! `t`, either primitive of an exact tie) and the same any-hit answer, on random and degenerate scenes
 //! and random rays, including axis-aligned rays with `+0` and `-0` direction components.
 
-use appel::accel::{Accel, AccelKind, MeshPrimitives, Primitives, TraversalStats};
+use appel::accel::{Accel, AccelKind, Bvh, BvhOptions, MeshPrimitives, Primitives, TraversalStats};
 use appel::geometry::TriangleMesh;
 use appel::math::{Ray, Vec3};
 use proptest::prelude::*;
@@ -22,13 +22,24 @@ fn mesh(tris: &[[Vec3; 3]]) -> TriangleMesh {
 fn check_all(m: &TriangleMesh, rays: &[Ray]) -> usize {
     let prims = MeshPrimitives::new(m);
     let brute = Accel::build(AccelKind::Brute, &prims);
-    let others: Vec<(AccelKind, Accel)> = AccelKind::NAMES
+    let mut others: Vec<(String, Accel)> = AccelKind::NAMES
         .iter()
         .map(|n| AccelKind::from_name(n).unwrap())
         .filter(|&k| k != AccelKind::Brute)
-        .map(|k| (k, Accel::build(k, &prims)))
+        .map(|k| (k.name().to_string(), Accel::build(k, &prims)))
         .collect();
     assert_eq!(others.len(), 3);
+    // The default BVH is 8 wide; the binary and 4-wide layouts answer the same.
+    for width in [2, 4] {
+        let opts = BvhOptions {
+            width,
+            ..Default::default()
+        };
+        others.push((
+            format!("bvh width {width}"),
+            Accel::Bvh(Bvh::build_with(&prims, opts)),
+        ));
+    }
     let mut s = TraversalStats::default();
     let mut hits = 0;
     for ray in rays {

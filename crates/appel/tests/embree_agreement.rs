@@ -38,6 +38,7 @@ fn model(file: &str, w: u32, h: u32) -> Option<BenchTarget> {
         name: file.into(),
         camera: Camera::new(&framed.camera),
         geometry: scene.geometry,
+        accel_options: Default::default(),
     })
 }
 

@@ -2,7 +2,7 @@
 
 use super::Primitives;
 use crate::geometry::{triangle_box_overlap, PrimHit, TriangleMesh, TriangleTest};
-use crate::math::{Aabb, Ray};
+use crate::math::{Aabb, Ray, Vec3};
 
 #[derive(Clone, Copy, Debug)]
 pub struct MeshPrimitives<'a> {
@@ -35,5 +35,10 @@ impl Primitives for MeshPrimitives<'_> {
 
     fn clip_overlaps(&self, i: usize, cell: &Aabb) -> bool {
         triangle_box_overlap(self.mesh.vertices(i), cell)
+    }
+
+    #[inline]
+    fn watertight_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+        (self.test == TriangleTest::Watertight).then(|| self.mesh.vertices(i))
     }
 }

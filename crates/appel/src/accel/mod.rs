@@ -19,7 +19,7 @@ pub use mesh_prims::MeshPrimitives;
 pub use stats::{AccelStats, TraversalStats};
 
 use crate::geometry::PrimHit;
-use crate::math::{Aabb, Ray};
+use crate::math::{Aabb, Ray, Vec3};
 
 /// What an acceleration structure is built over. Builders see only bounds; where they need a
 /// centroid they take the centre of the bounds (as Embree does).
@@ -34,6 +34,13 @@ pub trait Primitives: Sync {
     fn clip_overlaps(&self, i: usize, cell: &Aabb) -> bool {
         let _ = (i, cell);
         true
+    }
+    /// The vertices of primitive `i` if it is a triangle whose [`Primitives::intersect`] is exactly
+    /// [`crate::geometry::triangle::watertight`] on them. Structures may then gather the vertices into SIMD
+    /// blocks and test them without the call back; `None` (the default) always calls back.
+    fn watertight_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+        let _ = i;
+        None
     }
 }
 
@@ -93,6 +100,14 @@ impl AccelKind {
     }
 }
 
+/// Build parameters of every structure; [`Accel::build_with`] uses the ones of the kind it builds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AccelOptions {
+    pub bvh: BvhOptions,
+    pub grid: GridOptions,
+    pub kdtree: KdOptions,
+}
+
 /// A built acceleration structure.
 #[derive(Clone, Debug)]
 pub enum Accel {
@@ -104,11 +119,15 @@ pub enum Accel {
 
 impl Accel {
     pub fn build<P: Primitives>(kind: AccelKind, prims: &P) -> Self {
+        Self::build_with(kind, prims, &AccelOptions::default())
+    }
+
+    pub fn build_with<P: Primitives>(kind: AccelKind, prims: &P, o: &AccelOptions) -> Self {
         match kind {
             AccelKind::Brute => Accel::Brute(Brute::build(prims)),
-            AccelKind::Grid => Accel::Grid(Grid::build(prims)),
-            AccelKind::KdTree => Accel::KdTree(KdTree::build(prims)),
-            AccelKind::Bvh => Accel::Bvh(Bvh::build(prims)),
+            AccelKind::Grid => Accel::Grid(Grid::build_with(prims, o.grid)),
+            AccelKind::KdTree => Accel::KdTree(KdTree::build_with(prims, o.kdtree)),
+            AccelKind::Bvh => Accel::Bvh(Bvh::build_with(prims, o.bvh)),
         }
     }
 
@@ -157,7 +176,6 @@ impl Accel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Vec3;
 
     #[test]
     fn names_round_trip_and_bvh_is_the_default() {

@@ -78,26 +78,45 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
         e1 = (p2x * p0y - p2y * p0x) as f32;
         e2 = (p0x * p1y - p0y * p1x) as f32;
     }
+    p0t.z *= sz;
+    p1t.z *= sz;
+    p2t.z *= sz;
+    watertight_finish(
+        [p0t.x, p1t.x, p2t.x],
+        [p0t.y, p1t.y, p2t.y],
+        [p0t.z, p1t.z, p2t.z],
+        [e0, e1, e2],
+        t_max,
+        ad[kz],
+    )
+}
+
+/// The rest of [`watertight`] from the translated, permuted and sheared vertices (`z` already
+/// scaled by the shear's `sz`), the edge functions, and `dz_abs`, the magnitude of the ray
+/// direction's largest component (`1 / |sz|`): the inside test, the determinant, the range of `t`
+/// and its error bound. SIMD filters that compute those values lane by lane with the same
+/// operations finish here, so their hits are bit for bit the scalar test's.
+#[inline]
+pub(crate) fn watertight_finish(
+    x: [f32; 3],
+    y: [f32; 3],
+    z: [f32; 3],
+    [e0, e1, e2]: [f32; 3],
+    t_max: f32,
+    dz_abs: f32,
+) -> Option<PrimHit> {
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return None;
     }
     let det = e0 + e1 + e2;
-    if det == 0.0 {
-        // Degenerate triangle, or a ray in its plane: never a hit.
+    if det == 0.0 || !det.is_finite() {
+        // Degenerate triangle, or a ray in its plane: never a hit. Edge functions that overflow
+        // (vertices near f32's range) give an infinite or NaN determinant, which would make `t`
+        // NaN.
         return None;
     }
 
-    // The shear's rounding (the x and y error terms below) grows with the vertices' z before it is
-    // divided by the direction's z: |sx|, |sy| <= 1 because z is the largest component, so the
-    // shear adds at most |z|. pbrt-v4 uses the z after the division, which is the same for a unit
-    // direction up to a factor of sqrt(3) but wrong by |d| for others: 10^4 times too large for the
-    // short directions of rays taken into a 10^4-times scaled instance (rejecting every hit), and
-    // too small for the long, unnormalized shadow rays of a 10^4-times scaled scene.
-    let max_z_unscaled = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();
-    p0t.z *= sz;
-    p1t.z *= sz;
-    p2t.z *= sz;
-    let t_scaled = e0 * p0t.z + e1 * p1t.z + e2 * p2t.z;
+    let t_scaled = e0 * z[0] + e1 * z[1] + e2 * z[2];
     // Early out before the division, loosened by a few ulps: `t_scaled` against `t_max * det` is
     // rounded differently from `t` against `t_max`, and the exact test on `t` below must decide, so
     // that whether a hit is reported never depends on the rounding of `t_max * det` (an
@@ -118,10 +137,17 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
     }
 
     // Conservative check that t is positive by more than its rounding error.
-    let max_zt = Vec3::new(p0t.z, p1t.z, p2t.z).abs().max_element();
+    let max_zt = Vec3::from(z).abs().max_element();
     let delta_z = gamma(3) * max_zt;
-    let max_xt = Vec3::new(p0t.x, p1t.x, p2t.x).abs().max_element();
-    let max_yt = Vec3::new(p0t.y, p1t.y, p2t.y).abs().max_element();
+    let max_xt = Vec3::from(x).abs().max_element();
+    let max_yt = Vec3::from(y).abs().max_element();
+    // The shear's rounding (the x and y error terms) grows with the vertices' z before it is
+    // divided by the direction's z: |sx|, |sy| <= 1 because z is the largest component, so the
+    // shear adds at most |z|. pbrt-v4 uses the z after the division, which is the same for a unit
+    // direction up to a factor of sqrt(3) but wrong by |d| for others: 10^4 times too large for the
+    // short directions of rays taken into a 10^4-times scaled instance (rejecting every hit), and
+    // too small for the long, unnormalized shadow rays of a 10^4-times scaled scene.
+    let max_z_unscaled = max_zt * dz_abs * (1.0 + 2.0 * f32::EPSILON);
     let delta_x = gamma(5) * (max_xt + max_z_unscaled);
     let delta_y = gamma(5) * (max_yt + max_z_unscaled);
     let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
@@ -211,6 +237,25 @@ mod tests {
             assert_eq!(both(&r, f32::INFINITY), [None, None]);
         }
         assert_eq!(both(&far, 2.5), [None, None]);
+    }
+
+    /// Edge functions that overflow f32 once made the determinant NaN, and a NaN `t` passed every
+    /// range check: such a triangle must be a miss, not a hit at NaN.
+    #[test]
+    fn overflowing_edge_functions_are_a_miss_not_a_nan_hit() {
+        let c = Vec3::new(2e31, 0.0, 0.0);
+        let s = 2e30;
+        let (p0, p1, p2) = (
+            c,
+            c + Vec3::new(0.5, 1.0, 0.0) * s,
+            c + Vec3::new(0.0, 0.3, 1.0) * s,
+        );
+        let r = Ray::new(Vec3::new(-0.2, -0.3, 0.7), Vec3::new(-1.0, -0.1, -0.8));
+        assert_eq!(watertight(&r, f32::INFINITY, p0, p1, p2), None);
+        let toward = Ray::new(Vec3::ZERO, (p0 + p1 + p2) / 3.0);
+        if let Some(h) = watertight(&toward, f32::INFINITY, p0, p1, p2) {
+            assert!(h.t.is_finite());
+        }
     }
 
     #[test]

@@ -83,6 +83,49 @@ pub struct RenderDesc {
     /// Ray-triangle test: "watertight" or "moller".
     #[serde(default = "default_triangle")]
     pub triangle: String,
+    /// `[render.bvh]`: how the BVH is built, when `accel = "bvh"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bvh: Option<BvhDesc>,
+    /// `[render.grid]`: the uniform grid's resolution, when `accel = "grid"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<GridDesc>,
+    /// `[render.kdtree]`: the kd-tree's build parameters, when `accel = "kdtree"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kdtree: Option<KdTreeDesc>,
+}
+
+/// `[render.bvh]`; absent keys take the defaults of `accel::BvhOptions`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BvhDesc {
+    /// "sah" (binned surface area heuristic), "midpoint" or "median".
+    pub split: Option<String>,
+    /// Children per node: 2, 4 or 8.
+    pub width: Option<u32>,
+    /// SAH bins per axis, 2 to 32.
+    pub bins: Option<u32>,
+    /// The most primitives a leaf may hold, 1 to 255.
+    pub max_leaf: Option<u32>,
+}
+
+/// `[render.grid]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GridDesc {
+    /// Cells per primitive (27 by default).
+    pub density: Option<f32>,
+}
+
+/// `[render.kdtree]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct KdTreeDesc {
+    /// Cost of a primitive test relative to a traversal step (80 by default).
+    pub intersect_cost: Option<f32>,
+    /// Fraction of the cost saved by a split with an empty side, 0 to 1 (0.5 by default).
+    pub empty_bonus: Option<f32>,
+    /// Deepest level; by default `8 + 1.3 log2(N)`.
+    pub max_depth: Option<u32>,
 }
 
 impl Default for RenderDesc {
@@ -93,6 +136,9 @@ impl Default for RenderDesc {
             accel: default_accel(),
             spp: default_spp(),
             triangle: default_triangle(),
+            bvh: None,
+            grid: None,
+            kdtree: None,
         }
     }
 }

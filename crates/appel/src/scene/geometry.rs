@@ -6,7 +6,7 @@ use crate::geometry::{
     triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SurfaceInteraction,
     Torus, TriangleMesh, TriangleTest,
 };
-use crate::math::{Aabb, Ray};
+use crate::math::{Aabb, Ray, Vec3};
 
 /// One surface: a `[[shape]]` of the scene file, or one part of a mesh file's `[[shape]]`.
 #[derive(Clone, Debug)]
@@ -401,6 +401,17 @@ impl Primitives for Geometry {
                 triangle_box_overlap(self.meshes[*m as usize].vertices(r.index as usize), cell)
             }
             _ => true,
+        }
+    }
+
+    #[inline]
+    fn watertight_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+        let r = self.prims[i];
+        match &self.shapes[r.shape as usize].kind {
+            ShapeKind::Mesh(m) if self.triangle_test == TriangleTest::Watertight => {
+                Some(self.meshes[*m as usize].vertices(r.index as usize))
+            }
+            _ => None,
         }
     }
 }

@@ -4,7 +4,7 @@
 //! prototype's structure, so a million placements cost a million transforms, not their triangles.
 
 use super::Geometry;
-use crate::accel::{Accel, AccelKind, Primitives, TraversalStats};
+use crate::accel::{Accel, AccelKind, AccelOptions, Primitives, TraversalStats};
 use crate::geometry::{InstanceTransform, PrimHit};
 use crate::math::{Aabb, Ray};
 
@@ -33,9 +33,9 @@ pub struct Instance {
 }
 
 impl Prototype {
-    /// Builds the structure of `kind` over the geometry's triangles.
-    pub fn new(geometry: Geometry, kind: AccelKind) -> Self {
-        let accel = Accel::build(kind, &geometry);
+    /// Builds the structure of `kind` (with the scene's parameters) over the geometry's triangles.
+    pub fn new(geometry: Geometry, kind: AccelKind, options: &AccelOptions) -> Self {
+        let accel = Accel::build_with(kind, &geometry, options);
         let bounds = geometry.bounds();
         Self {
             geometry,

@@ -4,8 +4,7 @@ use super::description::Description;
 use super::instance::{Instance, Prototype};
 use super::mesh_shape::add_mesh_file;
 use super::progress::Steps;
-use super::{Geometry, Material};
-use crate::accel::AccelKind;
+use super::{Geometry, Material, RenderSettings};
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
 use crate::io::placements::read_placements;
@@ -23,13 +22,13 @@ fn fits(x: &InstanceTransform, bounds: crate::math::Aabb) -> bool {
     b.min.is_finite() && b.max.is_finite()
 }
 
-/// Loads every declared mesh that an instance uses, builds its structure, and adds the instances
+/// Loads every declared mesh that an instance uses, builds its structure (of the scene's kind), and adds the instances
 /// (their `shapeid` continues the numbering of the `[[shape]]` entries). Returns the time spent
 /// building the prototypes' structures, which belongs to the build phase, not loading.
 pub(super) fn add_instances(
     d: &Description,
     base_dir: &Path,
-    kind: AccelKind,
+    settings: &RenderSettings,
     geometry: &mut Geometry,
     materials: &mut Vec<Material>,
     material_index: impl Fn(&str) -> u32,
@@ -54,7 +53,8 @@ pub(super) fn add_instances(
             &base_dir.join(&m.file),
             None,
             material,
-            kind,
+            settings.accel,
+            &settings.accel_options,
         )?;
         if !mesh_geometry.instances.is_empty() {
             return Err(Error::input(
@@ -76,7 +76,7 @@ pub(super) fn add_instances(
         .into_par_iter()
         .map(|(file, g)| {
             steps.check()?;
-            let p = Prototype::new(g, kind);
+            let p = Prototype::new(g, settings.accel, &settings.accel_options);
             steps.step(&format!("built the structure of {file}"))?;
             Ok(p)
         })

@@ -3,7 +3,7 @@
 
 use super::description::{MaterialDesc, TransformDesc};
 use super::{Geometry, Instance, Material, Prototype};
-use crate::accel::AccelKind;
+use crate::accel::{AccelKind, AccelOptions};
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
 use crate::io::{load_mesh, FileMaterial};
@@ -18,6 +18,7 @@ pub(super) fn add_mesh_file(
     transform: Option<&TransformDesc>,
     material: Option<u32>,
     kind: AccelKind,
+    options: &AccelOptions,
 ) -> Result<()> {
     let mut loaded = load_mesh(path)?;
     if let Some(t) = transform {
@@ -60,7 +61,7 @@ pub(super) fn add_mesh_file(
             g.shapes[shape as usize].source.first_prim = first_prim;
             first_prim += count;
         }
-        geometry.prototypes.push(Prototype::new(g, kind));
+        geometry.prototypes.push(Prototype::new(g, kind, options));
     }
     let mut instances = Vec::with_capacity(loaded.placements.len());
     for p in &loaded.placements {

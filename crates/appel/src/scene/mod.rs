@@ -26,7 +26,7 @@ pub use material::{Checker, Material};
 pub use memory::{estimate_memory, MemoryEstimate};
 pub use progress::{LoadStep, SceneOptions};
 
-use crate::accel::{Accel, AccelKind, AccelStats, TraversalStats};
+use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
 use crate::error::{Error, Location, Result};
 use crate::geometry::{
     Implicit, ObjectTransform, Plane, Sphere, Torus, TriangleMesh, TriangleTest,
@@ -49,6 +49,31 @@ pub struct RenderSettings {
     pub max_depth: u32,
     pub spp: u32,
     pub accel: AccelKind,
+    /// `[render.bvh]`, `[render.grid]`, `[render.kdtree]`.
+    pub accel_options: AccelOptions,
+}
+
+/// The structures' build parameters a (validated) `[render]` table sets.
+fn accel_options(r: &description::RenderDesc) -> AccelOptions {
+    let mut o = AccelOptions::default();
+    if let Some(b) = &r.bvh {
+        if let Some(split) = b.split.as_deref().and_then(BvhSplit::from_name) {
+            o.bvh.split = split;
+        }
+        o.bvh.width = b.width.map_or(o.bvh.width, |w| w as usize);
+        o.bvh.bins = b.bins.map_or(o.bvh.bins, |v| v as usize);
+        o.bvh.max_leaf = b.max_leaf.map_or(o.bvh.max_leaf, |v| v as usize);
+        o.bvh.leaf_size = o.bvh.leaf_size.min(o.bvh.max_leaf);
+    }
+    if let Some(d) = r.grid.as_ref().and_then(|g| g.density) {
+        o.grid.density = d;
+    }
+    if let Some(k) = &r.kdtree {
+        o.kdtree.intersect_cost = k.intersect_cost.unwrap_or(o.kdtree.intersect_cost);
+        o.kdtree.empty_bonus = k.empty_bonus.unwrap_or(o.kdtree.empty_bonus);
+        o.kdtree.max_depth = k.max_depth.map(|d| d as usize).or(o.kdtree.max_depth);
+    }
+    o
 }
 
 /// How long building the scene took, phase by phase.
@@ -178,6 +203,7 @@ impl Scene {
                     d.render.accel
                 ))
             })?,
+            accel_options: accel_options(&d.render),
         };
         let triangle_test = match d.render.triangle.as_str() {
             "moller" => TriangleTest::Moller,
@@ -262,6 +288,7 @@ impl Scene {
                         s.transform.as_ref(),
                         s.material.is_some().then_some(material),
                         settings.accel,
+                        &settings.accel_options,
                     )?;
                     steps.step(&format!("read {file}"))?;
                 }
@@ -278,7 +305,7 @@ impl Scene {
         let prototype_build = instance_entries::add_instances(
             d,
             base_dir,
-            settings.accel,
+            &settings,
             &mut geometry,
             &mut materials,
             |m| {
@@ -300,7 +327,7 @@ impl Scene {
         } else {
             settings.accel
         };
-        let accel = Accel::build(top_level, &geometry);
+        let accel = Accel::build_with(top_level, &geometry, &settings.accel_options);
         let build = build_start.elapsed() + prototype_build;
         steps.step("built the top-level structure")?;
         Ok(Scene {

@@ -26,11 +26,27 @@ pub enum BvhSplit {
     Median,
 }
 
+impl BvhSplit {
+    pub const NAMES: &'static [&'static str] = &["sah", "midpoint", "median"];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "sah" => Some(Self::Sah),
+            "midpoint" => Some(Self::Midpoint),
+            "median" => Some(Self::Median),
+            _ => None,
+        }
+    }
+}
+
 /// Build parameters. The SAH cost of a node is `traversal_cost + intersect_cost * (n_l * A_l + n_r *
 /// A_r) / A` against `intersect_cost * n` for making it a leaf.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BvhOptions {
     pub split: BvhSplit,
+    /// Children per node: 2 (the binary tree as built), or 4 or 8 (collapsed, SIMD slab tests and
+    /// triangles tested four at a time).
+    pub width: usize,
     /// SAH bins per axis, clamped to `2..=32`.
     pub bins: usize,
     /// The largest leaf SAH may keep (it splits larger sets whatever the cost); at most 255.
@@ -38,7 +54,12 @@ pub struct BvhOptions {
     /// Midpoint and median splits stop at this many primitives.
     pub leaf_size: usize,
     pub traversal_cost: f32,
+    /// The cost of testing one block of primitives.
     pub intersect_cost: f32,
+    /// Primitives tested together (the SAH counts a leaf of `n` as `ceil(n / block)` tests): 4 for
+    /// the wide layouts, whose leaves test triangles four at a time; 0 means 4 when `width > 2` and
+    /// 1 otherwise.
+    pub block: usize,
     /// Ranges larger than this build their two children in parallel.
     pub parallel_threshold: usize,
 }
@@ -47,6 +68,7 @@ impl Default for BvhOptions {
     fn default() -> Self {
         Self {
             split: BvhSplit::Sah,
+            width: 8,
             bins: 16,
             max_leaf: 8,
             leaf_size: 4,
@@ -55,6 +77,7 @@ impl Default for BvhOptions {
             // 4:1 even fewer nodes but slower camera rays.
             traversal_cost: 2.0,
             intersect_cost: 1.0,
+            block: 0,
             parallel_threshold: 32 * 1024,
         }
     }
@@ -69,6 +92,29 @@ const PARALLEL_SCAN: usize = 128 * 1024;
 
 pub(super) struct Ctx {
     pub opts: BvhOptions,
+}
+
+impl BvhOptions {
+    /// The leaf block size in effect (see [`BvhOptions::block`]).
+    pub fn block_size(&self) -> usize {
+        match self.block {
+            0 if self.width > 2 => 4,
+            0 => 1,
+            b => b,
+        }
+    }
+
+    /// Blocks a leaf of `n` primitives takes, as the SAH counts them.
+    #[inline(always)]
+    pub(super) fn blocks(&self, n: u32) -> f32 {
+        let b = self.block_size() as u32;
+        // The common sizes by shift, not by a division in the SAH sweep's inner loop.
+        match b {
+            1 => n as f32,
+            4 => n.div_ceil(4) as f32,
+            _ => n.div_ceil(b) as f32,
+        }
+    }
 }
 
 /// The top of the tree, built in parallel: a few boxed nodes above chunks built sequentially.
@@ -480,7 +526,7 @@ fn sah_bins<const B: usize>(
                     continue;
                 }
                 let weighted =
-                    left.count as f32 * left.bounds.area() + r.count as f32 * r.bounds.area();
+                    o.blocks(left.count) * left.bounds.area() + o.blocks(r.count) * r.bounds.area();
                 if best.is_none_or(|b| weighted < b.0) {
                     best = Some((weighted, a, k, left.bounds, r.bounds));
                 }
@@ -488,7 +534,7 @@ fn sah_bins<const B: usize>(
         }
     }
     let max_leaf = o.max_leaf.clamp(1, 255);
-    let leaf_cost = o.intersect_cost * n as f32;
+    let leaf_cost = o.intersect_cost * o.blocks(n as u32);
     match best {
         Some((weighted, a, k, lb, rbounds))
             if !(n <= max_leaf

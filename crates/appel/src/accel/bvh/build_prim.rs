@@ -42,7 +42,8 @@ impl Box4 {
     /// Surface area; 0 for an empty box.
     #[inline(always)]
     pub fn area(self) -> f32 {
-        let d = (self.hi - self.lo).max(Vec4::ZERO);
+        // `lo.w` may hold a subnormal id (see `BuildPrim::centroid`): clear it before subtracting.
+        let d = (self.hi - self.lo.truncate().extend(0.0)).max(Vec4::ZERO);
         2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
     }
 
@@ -75,10 +76,14 @@ impl BuildPrim {
         self.bounds.lo.w.to_bits()
     }
 
-    /// The centre of the bounds (its `w` lane is meaningless).
+    /// The centre of the bounds, with `w` zero.
+    ///
+    /// The id in `lo.w` is, as a float, usually a subnormal number: an addition with a subnormal
+    /// operand takes a microcode assist of about a hundred cycles on x86 CPUs, so the lane is
+    /// cleared bitwise first. (Before, this one addition was half the build's time.)
     #[inline(always)]
     pub fn centroid(&self) -> Vec4 {
-        (self.bounds.lo + self.bounds.hi) * 0.5
+        (self.bounds.lo.truncate().extend(0.0) + self.bounds.hi) * 0.5
     }
 }
 

@@ -5,10 +5,12 @@ mod build;
 mod build_prim;
 mod node;
 mod traverse;
+mod wide;
 
 pub use build::{BvhOptions, BvhSplit};
 pub use node::BvhNode;
 pub(crate) use traverse::{far_scale, RayBox};
+pub use wide::{TriBlock, WideBvh, WideNode};
 
 use super::{AccelStats, Hit, Primitives, TraversalStats};
 #[cfg(test)]
@@ -18,12 +20,23 @@ use rayon::prelude::*;
 
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
+    /// The binary tree; emptied once collapsed into a wide one.
     nodes: Vec<BvhNode>,
     /// Primitive ids in leaf order: leaf `[offset, offset + count)` is a range of this array.
     indices: Vec<u32>,
+    /// The tree traversal uses when `BvhOptions::width` is 4 or 8.
+    wide: Wide,
     /// Edges from the root to the deepest leaf.
     depth: usize,
     stats: AccelStats,
+}
+
+#[derive(Clone, Debug, Default)]
+enum Wide {
+    #[default]
+    Binary,
+    W4(WideBvh<4>),
+    W8(WideBvh<8>),
 }
 
 impl Bvh {
@@ -47,11 +60,44 @@ impl Bvh {
         let mut bvh = Self {
             nodes,
             indices,
+            wide: Wide::Binary,
             depth: 0,
             stats: AccelStats::default(),
         };
         bvh.measure(&opts);
+        let (bytes, counts, wide) = match opts.width {
+            2 => return bvh,
+            4 => {
+                let w = WideBvh::<4>::from_binary(prims, &bvh.nodes, &bvh.indices);
+                (w.bytes(), w.counts(), Wide::W4(w))
+            }
+            8 => {
+                let w = WideBvh::<8>::from_binary(prims, &bvh.nodes, &bvh.indices);
+                (w.bytes(), w.counts(), Wide::W8(w))
+            }
+            w => panic!("BVH width must be 2, 4 or 8, not {w}"),
+        };
+        bvh.wide = wide;
+        bvh.stats.bytes = bytes;
+        (bvh.stats.nodes, bvh.stats.leaves) = counts;
+        bvh.depth = match &bvh.wide {
+            Wide::W4(w) => w.depth(),
+            Wide::W8(w) => w.depth(),
+            Wide::Binary => bvh.depth,
+        };
+        bvh.stats.depth = bvh.depth;
+        bvh.nodes = Vec::new();
+        bvh.indices = Vec::new();
         bvh
+    }
+
+    /// Children per node: 2, 4 or 8.
+    pub fn width(&self) -> usize {
+        match self.wide {
+            Wide::Binary => 2,
+            Wide::W4(_) => 4,
+            Wide::W8(_) => 8,
+        }
     }
 
     pub fn nodes(&self) -> &[BvhNode] {
@@ -87,7 +133,7 @@ impl Bvh {
                 };
                 if n.is_leaf() {
                     leaves += 1;
-                    cost += rel * o.intersect_cost as f64 * n.count as f64;
+                    cost += rel * o.intersect_cost as f64 * o.blocks(n.count as u32) as f64;
                 } else {
                     interior += 1;
                     cost += rel * o.traversal_cost as f64;
@@ -118,7 +164,11 @@ impl Bvh {
         t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
-        self.traverse::<P, false>(prims, ray, t_max, stats)
+        match &self.wide {
+            Wide::Binary => self.traverse::<P, false>(prims, ray, t_max, stats),
+            Wide::W4(w) => w.traverse::<P, false>(prims, ray, t_max, stats),
+            Wide::W8(w) => w.traverse::<P, false>(prims, ray, t_max, stats),
+        }
     }
 
     #[inline]
@@ -129,7 +179,12 @@ impl Bvh {
         t_max: f32,
         stats: &mut TraversalStats,
     ) -> bool {
-        self.traverse::<P, true>(prims, ray, t_max, stats).is_some()
+        match &self.wide {
+            Wide::Binary => self.traverse::<P, true>(prims, ray, t_max, stats),
+            Wide::W4(w) => w.traverse::<P, true>(prims, ray, t_max, stats),
+            Wide::W8(w) => w.traverse::<P, true>(prims, ray, t_max, stats),
+        }
+        .is_some()
     }
 
     pub fn stats(&self) -> AccelStats {
@@ -142,9 +197,21 @@ mod tests {
     use super::*;
     use crate::accel::testutil::{agrees_with_brute, mesh, prims, rays, soup};
 
+    /// Builds the binary tree (whose nodes the structural tests inspect) and checks it, and its 4-
+    /// and 8-wide collapses, against brute force.
     fn check(m: &crate::geometry::TriangleMesh, opts: BvhOptions) -> (Bvh, usize) {
         let p = prims(m);
-        let bvh = Bvh::build_with(&p, opts);
+        for width in [4, 8] {
+            let wide = Bvh::build_with(&p, BvhOptions { width, ..opts });
+            assert_eq!(wide.width(), width);
+            agrees_with_brute(
+                &p,
+                &rays(400, 7),
+                |r, t, s| wide.intersect(&p, r, t, s),
+                |r, t, s| wide.occluded(&p, r, t, s),
+            );
+        }
+        let bvh = Bvh::build_with(&p, BvhOptions { width: 2, ..opts });
         let hits = agrees_with_brute(
             &p,
             &rays(400, 7),
@@ -209,6 +276,7 @@ mod tests {
         let seq = Bvh::build_with(
             &prims(&m),
             BvhOptions {
+                width: 2,
                 parallel_threshold: usize::MAX,
                 ..Default::default()
             },
@@ -248,11 +316,16 @@ mod tests {
         for p in m.positions.iter_mut().take(3000) {
             *p = *p * 0.01 + Vec3::splat(5.0);
         }
-        let sah = Bvh::build(&prims(&m));
+        let binary = BvhOptions {
+            width: 2,
+            ..Default::default()
+        };
+        let sah = Bvh::build_with(&prims(&m), binary);
         let med = Bvh::build_with(
             &prims(&m),
             BvhOptions {
                 split: BvhSplit::Median,
+                width: 2,
                 ..Default::default()
             },
         );
@@ -264,7 +337,13 @@ mod tests {
     #[test]
     fn stats_count_nodes_and_bytes() {
         let m = soup(500, 9);
-        let bvh = Bvh::build(&prims(&m));
+        let bvh = Bvh::build_with(
+            &prims(&m),
+            BvhOptions {
+                width: 2,
+                ..Default::default()
+            },
+        );
         let s = bvh.stats();
         assert_eq!(s.nodes + s.leaves, bvh.nodes.len());
         assert_eq!(s.leaves, s.nodes + 1);

@@ -1,0 +1,406 @@
+//! The wide BVH: the binary SAH tree collapsed into nodes of `W` (4 or 8) children tested with one
+//! SIMD instruction per slab, and leaves of triangles gathered into blocks of four (see
+//! `tri_block.rs`). The collapse follows Embree's BVH4/BVH8 builders (Wald et al. 2014): a node
+//! adopts its children, then repeatedly opens the child with the largest surface area, until it has
+//! `W` children or only leaves remain.
+
+mod node;
+mod traverse;
+mod tri_block;
+
+pub use node::WideNode;
+pub use tri_block::TriBlock;
+
+use super::node::BvhNode;
+use crate::accel::Primitives;
+use crate::math::Aabb;
+use rayon::prelude::*;
+
+#[derive(Clone, Debug, Default)]
+pub struct WideBvh<const W: usize> {
+    nodes: Vec<WideNode<W>>,
+    blocks: Vec<TriBlock>,
+    /// Edges from the root to the deepest leaf.
+    depth: usize,
+}
+
+/// A leaf's primitives before their vertices are gathered: a range of the binary tree's index array.
+struct LeafRange {
+    /// The wide node and lane whose slot points at this leaf.
+    slot: (u32, u8),
+    first_index: u32,
+    count: u32,
+}
+
+impl<const W: usize> WideBvh<W> {
+    /// Collapses a binary tree (`nodes` in depth-first order, leaves naming ranges of `indices`).
+    pub fn from_binary<P: Primitives>(prims: &P, nodes: &[BvhNode], indices: &[u32]) -> Self {
+        assert!(
+            W == 4 || W == 8,
+            "wide BVH nodes have 4 or 8 children, not {W}"
+        );
+        let mut c = Collapse {
+            bin: nodes,
+            nodes: Vec::with_capacity(nodes.len() / (W - 1) + 1),
+            leaves: Vec::new(),
+            blocks: 0,
+            depth: 0,
+        };
+        if !nodes.is_empty() {
+            c.nodes.push(WideNode::EMPTY);
+            if nodes[0].is_leaf() {
+                c.depth = 1;
+                let child = c.leaf(&nodes[0], (0, 0));
+                c.nodes[0].set(0, nodes[0].min, nodes[0].max, child);
+            } else {
+                c.fill(0, 0, 1);
+            }
+        }
+        assert!(
+            c.blocks <= u32::MAX as usize,
+            "too many leaf blocks for 32-bit block indices"
+        );
+        let mut blocks = vec![
+            TriBlock {
+                v: [[0.0; 4]; 9],
+                id: [0; 4]
+            };
+            c.blocks
+        ];
+        // Gather the vertices leaf by leaf, in parallel: each leaf owns a disjoint run of blocks.
+        let mut runs: Vec<(&LeafRange, &mut [TriBlock])> = Vec::with_capacity(c.leaves.len());
+        let mut rest: &mut [TriBlock] = &mut blocks;
+        for l in &c.leaves {
+            let (run, tail) = rest.split_at_mut(l.count.div_ceil(4) as usize);
+            runs.push((l, run));
+            rest = tail;
+        }
+        let no_triangles: Vec<bool> = runs
+            .into_par_iter()
+            .map(|(l, run)| {
+                let ids = &indices[l.first_index as usize..][..l.count as usize];
+                let mut any_triangle = false;
+                for (chunk, block) in ids.chunks(4).zip(run.iter_mut()) {
+                    let lanes: Vec<(u32, _)> = chunk
+                        .iter()
+                        .map(|&id| (id, prims.watertight_triangle(id as usize)))
+                        .collect();
+                    any_triangle |= lanes.iter().any(|(_, t)| t.is_some());
+                    *block = TriBlock::new(&lanes);
+                }
+                !any_triangle
+            })
+            .collect();
+        for (l, _) in c.leaves.iter().zip(no_triangles).filter(|(_, none)| *none) {
+            c.nodes[l.slot.0 as usize].child[l.slot.1 as usize] |= node::NO_TRIANGLES;
+        }
+        Self {
+            nodes: c.nodes,
+            blocks,
+            depth: c.depth,
+        }
+    }
+
+    pub fn nodes(&self) -> &[WideNode<W>] {
+        &self.nodes
+    }
+
+    pub fn depth(&self) -> usize {
+        self.depth
+    }
+
+    pub fn bytes(&self) -> usize {
+        self.nodes.len() * std::mem::size_of::<WideNode<W>>()
+            + self.blocks.len() * std::mem::size_of::<TriBlock>()
+    }
+
+    /// Interior nodes and leaves.
+    pub fn counts(&self) -> (usize, usize) {
+        let leaves = self
+            .nodes
+            .iter()
+            .flat_map(|n| n.child.iter())
+            .filter(|&&c| c != node::EMPTY && node::is_leaf(c))
+            .count();
+        (self.nodes.len(), leaves)
+    }
+}
+
+struct Collapse<'a, const W: usize> {
+    bin: &'a [BvhNode],
+    nodes: Vec<WideNode<W>>,
+    leaves: Vec<LeafRange>,
+    blocks: usize,
+    /// Wide nodes on the longest path from the root.
+    depth: usize,
+}
+
+impl<const W: usize> Collapse<'_, W> {
+    fn leaf(&mut self, n: &BvhNode, slot: (usize, usize)) -> node::Child {
+        let first_block = self.blocks as u32;
+        self.leaves.push(LeafRange {
+            slot: (slot.0 as u32, slot.1 as u8),
+            first_index: n.offset,
+            count: n.count as u32,
+        });
+        self.blocks += (n.count as usize).div_ceil(4);
+        node::leaf(first_block, n.count as u32)
+    }
+
+    /// Fills wide node `me` (at `level`, the root being 1) with the descendants of binary interior
+    /// node `at`.
+    fn fill(&mut self, me: usize, at: usize, level: usize) {
+        self.depth = self.depth.max(level);
+        let bin = self.bin;
+        let area = |i: usize| Aabb::new(bin[i].min.into(), bin[i].max.into()).surface_area();
+        let mut kids = [0usize; W];
+        kids[0] = at + 1;
+        kids[1] = bin[at].offset as usize;
+        let mut len = 2;
+        while len < W {
+            let open = (0..len)
+                .filter(|&k| !bin[kids[k]].is_leaf())
+                .max_by(|&a, &b| area(kids[a]).total_cmp(&area(kids[b])));
+            let Some(k) = open else { break };
+            let b = kids[k];
+            kids[k] = b + 1;
+            kids[len] = bin[b].offset as usize;
+            len += 1;
+        }
+        for (lane, &k) in kids[..len].iter().enumerate() {
+            let n = &bin[k];
+            let child = if n.is_leaf() {
+                self.leaf(n, (me, lane))
+            } else {
+                let idx = self.nodes.len();
+                self.nodes.push(WideNode::EMPTY);
+                self.fill(idx, k, level + 1);
+                idx as node::Child
+            };
+            self.nodes[me].set(lane, n.min, n.max, child);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::bvh::{Bvh, BvhOptions, Wide};
+    use crate::accel::testutil::{agrees_with_brute, prims, rays, soup};
+    use crate::accel::MeshPrimitives;
+    use crate::geometry::PrimHit;
+    use crate::math::{Ray, Vec3};
+
+    fn binary(p: &impl Primitives) -> Bvh {
+        Bvh::build_with(
+            p,
+            BvhOptions {
+                width: 2,
+                ..Default::default()
+            },
+        )
+    }
+
+    /// Every primitive in exactly one leaf, every child box inside its parent's.
+    fn well_formed<const W: usize>(w: &WideBvh<W>, n: usize) {
+        let mut seen = vec![0u32; n];
+        let mut stack = vec![(0usize, None::<([f32; 3], [f32; 3])>)];
+        let mut visited = 0;
+        while let Some((at, parent)) = stack.pop() {
+            visited += 1;
+            let node = &w.nodes[at];
+            for lane in 0..W {
+                let c = node.child[lane];
+                if c == node::EMPTY {
+                    continue;
+                }
+                let lo = [0, 2, 4].map(|k| node.bounds[k][lane]);
+                let hi = [1, 3, 5].map(|k| node.bounds[k][lane]);
+                if let Some((plo, phi)) = parent {
+                    assert!((0..3).all(|a| plo[a] <= lo[a] && hi[a] <= phi[a]));
+                }
+                if node::is_leaf(c) {
+                    let (first, count) = node::leaf_range(c);
+                    let ids = w.blocks[first..first + count.div_ceil(4)]
+                        .iter()
+                        .flat_map(|b| b.id)
+                        .take(count);
+                    for id in ids {
+                        seen[id as usize] += 1;
+                    }
+                } else {
+                    stack.push((c as usize, Some((lo, hi))));
+                }
+            }
+        }
+        assert_eq!(visited, w.nodes.len());
+        assert!(seen.iter().all(|&k| k == 1));
+    }
+
+    #[test]
+    fn collapse_keeps_every_primitive_once_and_nests_boxes() {
+        for n in [1, 2, 5, 9, 300, 4000] {
+            let m = soup(n, n as u32);
+            let p = prims(&m);
+            let b = binary(&p);
+            let w4 = WideBvh::<4>::from_binary(&p, &b.nodes, &b.indices);
+            let w8 = WideBvh::<8>::from_binary(&p, &b.nodes, &b.indices);
+            well_formed(&w4, n);
+            well_formed(&w8, n);
+            // Collapsing only removes levels.
+            assert!(w8.depth() <= w4.depth() && w4.depth() <= b.depth() + 1);
+            if n >= 300 {
+                // A full 8-wide node replaces seven binary interior nodes; nodes near the leaves
+                // fill less.
+                let interior = b.nodes.iter().filter(|x| !x.is_leaf()).count();
+                assert!(
+                    w8.nodes.len() * 2 < interior,
+                    "{} {interior}",
+                    w8.nodes.len()
+                );
+                assert!(w4.nodes.len() < interior, "{} {interior}", w4.nodes.len());
+            }
+        }
+    }
+
+    /// Triangles whose index is odd are "other" primitives, tested through the call back.
+    struct Mixed<'a>(MeshPrimitives<'a>);
+
+    impl Primitives for Mixed<'_> {
+        fn count(&self) -> usize {
+            self.0.count()
+        }
+        fn bounds(&self, i: usize) -> crate::math::Aabb {
+            self.0.bounds(i)
+        }
+        fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+            self.0.intersect(i, ray, t_max)
+        }
+        fn watertight_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+            i.is_multiple_of(2).then(|| self.0.mesh.vertices(i))
+        }
+    }
+
+    /// Moller-Trumbore triangles are not gathered: every leaf is called back, without the filter.
+    #[test]
+    fn leaves_without_triangles_are_flagged_and_agree() {
+        let m = soup(2000, 6);
+        let p = MeshPrimitives {
+            mesh: &m,
+            test: crate::geometry::TriangleTest::Moller,
+        };
+        let bvh = Bvh::build(&p);
+        let Wide::W8(w) = &bvh.wide else {
+            panic!("not 8 wide")
+        };
+        let leaves = w
+            .nodes
+            .iter()
+            .flat_map(|n| n.child)
+            .filter(|&c| c != node::EMPTY && node::is_leaf(c));
+        assert!(leaves.clone().count() > 100);
+        assert!(leaves.into_iter().all(|c| c & node::NO_TRIANGLES != 0));
+        let hits = agrees_with_brute(
+            &p,
+            &rays(400, 8),
+            |r, t, s| bvh.intersect(&p, r, t, s),
+            |r, t, s| bvh.occluded(&p, r, t, s),
+        );
+        assert!(hits > 100, "{hits}");
+        // Watertight triangles are gathered: no leaf is flagged.
+        let tri = prims(&m);
+        let Wide::W8(w) = &Bvh::build(&tri).wide else {
+            panic!("not 8 wide")
+        };
+        assert!(w
+            .nodes
+            .iter()
+            .flat_map(|n| n.child)
+            .all(|c| c == node::EMPTY || c & node::NO_TRIANGLES == 0));
+    }
+
+    #[test]
+    fn called_back_primitives_mix_with_triangle_lanes() {
+        let m = soup(3000, 4);
+        let p = Mixed(prims(&m));
+        for width in [4, 8] {
+            let bvh = Bvh::build_with(
+                &p,
+                BvhOptions {
+                    width,
+                    ..Default::default()
+                },
+            );
+            let hits = agrees_with_brute(
+                &p,
+                &rays(500, 3),
+                |r, t, s| bvh.intersect(&p, r, t, s),
+                |r, t, s| bvh.occluded(&p, r, t, s),
+            );
+            assert!(hits > 200, "{hits}");
+        }
+    }
+
+    /// Chain-like trees (midpoint splits peel the farthest triangle off, one level at a time)
+    /// through the traversal with the large stack, which only trees deeper than any seen in
+    /// practice take: it must answer like brute force too.
+    #[test]
+    fn the_deep_traversal_agrees_with_brute_force() {
+        let tris: Vec<[Vec3; 3]> = (0..400)
+            .map(|i| {
+                let x = 1.05f32.powi(i);
+                let c = Vec3::new(x, 0.0, 0.0);
+                let s = 0.1 * x;
+                [
+                    c,
+                    c + Vec3::new(0.5, 1.0, 0.0) * s,
+                    c + Vec3::new(0.0, 0.3, 1.0) * s,
+                ]
+            })
+            .collect();
+        let m = crate::accel::testutil::mesh(tris);
+        let p = prims(&m);
+        let opts = BvhOptions {
+            split: crate::accel::BvhSplit::Midpoint,
+            ..Default::default()
+        };
+        let bvh = Bvh::build_with(&p, opts);
+        let Wide::W8(w) = &bvh.wide else {
+            panic!("not 8 wide")
+        };
+        let rays: Vec<Ray> = (0..400)
+            .map(|i| {
+                let x = 1.05f32.powi(i);
+                Ray::new(Vec3::new(x * 1.015, 0.04 * x, -3.0), Vec3::Z)
+            })
+            .chain(rays(200, 5))
+            .collect();
+        let hits = agrees_with_brute(
+            &p,
+            &rays,
+            |r, t, s| w.traverse_deep::<_, false, false>(&p, r, t, s),
+            |r, t, s| w.traverse_deep::<_, true, false>(&p, r, t, s).is_some(),
+        );
+        assert!(hits > 300, "{hits}");
+    }
+
+    #[test]
+    fn wide_stats_count_nodes_blocks_and_tests() {
+        let m = soup(2000, 9);
+        let p = prims(&m);
+        let bvh = Bvh::build(&p);
+        assert_eq!(bvh.width(), 8);
+        let s = bvh.stats();
+        let Wide::W8(w) = &bvh.wide else {
+            panic!("not 8 wide")
+        };
+        assert_eq!(s.nodes, w.nodes.len());
+        assert_eq!(s.bytes, w.nodes.len() * 256 + w.blocks.len() * 160);
+        assert!(w.blocks.len() >= 2000 / 4);
+        let mut ts = crate::accel::TraversalStats::default();
+        let r = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+        bvh.intersect(&p, &r, f32::INFINITY, &mut ts);
+        assert_eq!(ts.rays, 1);
+        assert!(ts.nodes_visited >= 1 && ts.prim_tests < 2000);
+    }
+}

@@ -1,0 +1,396 @@
+//! Single-ray traversal of the wide BVH: all children's slab tests at once, hit children visited
+//! nearest first from an explicit stack that remembers each one's entry distance, so a child
+//! farther than the best hit found since it was pushed is skipped when popped.
+//!
+//! The `W = 8` path uses AVX2 when the CPU has it (detected once, at run time); otherwise, and for
+//! `W = 4`, the slab tests run four lanes at a time in SSE (part of every x86_64), or lane by lane
+//! on other targets.
+
+use super::node::{self, Child, WideNode};
+use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
+use super::WideBvh;
+use crate::accel::bvh::far_scale;
+use crate::accel::{Hit, Primitives, TraversalStats};
+use crate::math::Ray;
+use std::mem::MaybeUninit;
+
+/// A ray prepared for the slab tests. `near[a]` and `far[a]` pick the rows of [`WideNode::bounds`]
+/// holding the near and far planes along axis `a`, by the sign bit of the direction (so `-0` counts
+/// as negative and meets `1 / -0 = -inf`, Williams et al. 2005).
+struct RayBoxes {
+    o: [f32; 3],
+    inv: [f32; 3],
+    near: [usize; 3],
+    far: [usize; 3],
+    far_scale: f32,
+}
+
+impl RayBoxes {
+    #[inline(always)]
+    fn new(ray: &Ray) -> Self {
+        let d = ray.dir;
+        // The sign bits, read directly: `glam`'s indexing checks the index on every access.
+        let neg = [d.x, d.y, d.z].map(|c| (c.to_bits() >> 31) as usize);
+        Self {
+            o: ray.origin.to_array(),
+            inv: d.recip().to_array(),
+            near: [neg[0], 2 + neg[1], 4 + neg[2]],
+            far: [1 - neg[0], 3 - neg[1], 5 - neg[2]],
+            far_scale: far_scale(),
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Entry {
+    child: Child,
+    t: f32,
+}
+
+/// The slab test of [`crate::accel::bvh::RayBox::hits`] on every child: the same operations in the
+/// same order (the far distance scaled by `1 + 2 gamma(3)`, Ize 2013), so it is conservative in the
+/// same way. A NaN slab distance (origin on a slab's plane, direction parallel to it) is ignored
+/// by taking it as the first operand of `max`/`min`, which return the second when either is NaN.
+/// Returns the mask of children hit in `[0, t_cull]` and their entry distances.
+#[inline(always)]
+fn slabs<const W: usize, const AVX: bool>(
+    n: &WideNode<W>,
+    r: &RayBoxes,
+    t_cull: f32,
+    dist: &mut [f32; W],
+) -> u32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if AVX && W == 8 {
+            // SAFETY: `AVX` is true only inside `traverse_avx2`, entered after detecting AVX2.
+            return unsafe { slabs8_avx(n.bounds.as_ptr().cast(), r, t_cull, dist.as_mut_ptr()) };
+        }
+        let mut mask = 0;
+        for c in 0..W / 4 {
+            // SAFETY: every row holds W >= 4 floats, and `4 c + 3 < W`.
+            mask |= unsafe {
+                slabs4_sse(
+                    n.bounds.as_ptr().cast(),
+                    W,
+                    4 * c,
+                    r,
+                    t_cull,
+                    dist.as_mut_ptr(),
+                )
+            } << (4 * c);
+        }
+        mask
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let mut mask = 0;
+        for lane in 0..W {
+            let mut t0 = 0.0f32;
+            let mut t1 = t_cull;
+            for a in 0..3 {
+                t0 = t0.max((n.bounds[r.near[a]][lane] - r.o[a]) * r.inv[a]);
+                t1 = t1.min((n.bounds[r.far[a]][lane] - r.o[a]) * r.inv[a] * r.far_scale);
+            }
+            dist[lane] = t0;
+            mask |= ((t0 <= t1) as u32) << lane;
+        }
+        mask
+    }
+}
+
+/// Four lanes starting at `lane` of a node whose rows hold `w` floats each.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn slabs4_sse(
+    bounds: *const f32,
+    w: usize,
+    lane: usize,
+    r: &RayBoxes,
+    t_cull: f32,
+    dist: *mut f32,
+) -> u32 {
+    use std::arch::x86_64::*;
+    let row = |k: usize| _mm_loadu_ps(bounds.add(k * w + lane));
+    let mut t0 = _mm_setzero_ps();
+    let mut t1 = _mm_set1_ps(t_cull);
+    let fs = _mm_set1_ps(r.far_scale);
+    for a in 0..3 {
+        let o = _mm_set1_ps(r.o[a]);
+        let inv = _mm_set1_ps(r.inv[a]);
+        t0 = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(row(r.near[a]), o), inv), t0);
+        t1 = _mm_min_ps(
+            _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(row(r.far[a]), o), inv), fs),
+            t1,
+        );
+    }
+    _mm_storeu_ps(dist.add(lane), t0);
+    _mm_movemask_ps(_mm_cmple_ps(t0, t1)) as u32
+}
+
+#[cfg(target_arch = "x86_64")]
+#[inline]
+#[target_feature(enable = "avx2")]
+unsafe fn slabs8_avx(bounds: *const f32, r: &RayBoxes, t_cull: f32, dist: *mut f32) -> u32 {
+    use std::arch::x86_64::*;
+    let row = |k: usize| _mm256_loadu_ps(bounds.add(k * 8));
+    let mut t0 = _mm256_setzero_ps();
+    let mut t1 = _mm256_set1_ps(t_cull);
+    let fs = _mm256_set1_ps(r.far_scale);
+    for a in 0..3 {
+        let o = _mm256_set1_ps(r.o[a]);
+        let inv = _mm256_set1_ps(r.inv[a]);
+        t0 = _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(row(r.near[a]), o), inv), t0);
+        t1 = _mm256_min_ps(
+            _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(row(r.far[a]), o), inv), fs),
+            t1,
+        );
+    }
+    _mm256_storeu_ps(dist, t0);
+    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t0, t1)) as u32
+}
+
+#[cfg(target_arch = "x86_64")]
+fn has_avx2() -> bool {
+    use std::sync::OnceLock;
+    static AVX2: OnceLock<bool> = OnceLock::new();
+    *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2"))
+}
+
+/// Stack entries a traversal may need: each level pushes at most `W` children and pops one.
+pub(super) fn stack_need<const W: usize>(depth: usize) -> usize {
+    depth * (W - 1) + 1
+}
+
+impl<const W: usize> WideBvh<W> {
+    #[inline]
+    pub(crate) fn traverse<P: Primitives, const ANY: bool>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        stats.rays += 1;
+        if self.nodes.is_empty() {
+            return None;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if W == 8 && has_avx2() {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.traverse_avx2::<P, ANY>(prims, ray, t_max, stats) };
+        }
+        self.traverse_sized::<P, ANY, false>(prims, ray, t_max, stats)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn traverse_avx2<P: Primitives, const ANY: bool>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        self.traverse_sized::<P, ANY, true>(prims, ray, t_max, stats)
+    }
+
+    /// Picks a stack just large enough for the tree's depth.
+    #[inline(always)]
+    fn traverse_sized<P: Primitives, const ANY: bool, const AVX: bool>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        if stack_need::<W>(self.depth) <= 128 {
+            self.traverse_with::<P, ANY, AVX, 128>(prims, ray, t_max, stats)
+        } else {
+            self.traverse_deep::<P, ANY, AVX>(prims, ray, t_max, stats)
+        }
+    }
+
+    /// Trees deeper than the common case get their own function, so that the common one keeps a
+    /// small stack frame.
+    #[inline(never)]
+    pub(super) fn traverse_deep<P: Primitives, const ANY: bool, const AVX: bool>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        // The builder bounds the depth (a forced median split past depth 64), so this always
+        // suffices.
+        debug_assert!(stack_need::<W>(self.depth) <= 1024);
+        self.traverse_with::<P, ANY, AVX, 1024>(prims, ray, t_max, stats)
+    }
+
+    #[inline(always)]
+    fn traverse_with<P: Primitives, const ANY: bool, const AVX: bool, const N: usize>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        mut t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        let rb = RayBoxes::new(ray);
+        // The triangle filter's set-up (three divisions) waits for the first leaf with triangles.
+        let mut rt: Option<RayTri> = None;
+        let far = rb.far_scale;
+        // Boxes are culled against a slightly larger distance than the best hit, so that rounding in
+        // the box test never culls a primitive whose own test would report a nearer hit.
+        let mut t_cull = t_max * far;
+        let mut stack = [const { MaybeUninit::<Entry>::uninit() }; N];
+        let mut sp = 0usize;
+        let mut best = None;
+        let mut dist = [0.0f32; W];
+        let mut cur: Child = 0;
+        loop {
+            if !node::is_leaf(cur) {
+                let n = &self.nodes[cur as usize];
+                stats.nodes_visited += 1;
+                let mask = slabs::<W, AVX>(n, &rb, t_cull, &mut dist);
+                if mask != 0 {
+                    let first = mask.trailing_zeros() as usize;
+                    if mask & (mask - 1) == 0 {
+                        cur = n.child[first];
+                        continue;
+                    }
+                    // Push every child hit, then order the pushed run so the nearest is on top.
+                    let base = sp;
+                    let mut m = mask;
+                    while m != 0 {
+                        let lane = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        stack[sp] = MaybeUninit::new(Entry {
+                            child: n.child[lane],
+                            t: dist[lane],
+                        });
+                        sp += 1;
+                    }
+                    {
+                        // SAFETY: entries `base..sp` were just written.
+                        let run = unsafe {
+                            std::slice::from_raw_parts_mut(
+                                stack.as_mut_ptr().add(base).cast::<Entry>(),
+                                sp - base,
+                            )
+                        };
+                        for i in 1..run.len() {
+                            let e = run[i];
+                            let mut j = i;
+                            while j > 0 && run[j - 1].t < e.t {
+                                run[j] = run[j - 1];
+                                j -= 1;
+                            }
+                            run[j] = e;
+                        }
+                    }
+                    sp -= 1;
+                    // SAFETY: entry `sp` was written above.
+                    cur = unsafe { stack[sp].assume_init() }.child;
+                    continue;
+                }
+            } else {
+                let (first, count) = node::leaf_range(cur);
+                stats.prim_tests += count as u64;
+                let blocks = &self.blocks[first..first + count.div_ceil(4)];
+                if cur & node::NO_TRIANGLES != 0 {
+                    // Spheres, implicit surfaces...: no filter, every primitive called back.
+                    for k in 0..count {
+                        let id = blocks[k / 4].id[k % 4];
+                        if let Some(h) = prims.intersect(id as usize, ray, t_max) {
+                            best = Some(Hit::new(id as usize, h));
+                            if ANY {
+                                return best;
+                            }
+                            t_max = h.t;
+                            t_cull = t_max * far;
+                        }
+                    }
+                } else {
+                    let rt = rt.get_or_insert_with(|| RayTri::new(ray));
+                    self.leaf_blocks::<P, ANY, AVX>(
+                        blocks, count, rt, prims, ray, &mut t_max, &mut best,
+                    );
+                    if ANY && best.is_some() {
+                        return best;
+                    }
+                    t_cull = t_max * far;
+                }
+            }
+            // Pop the nearest waiting child that can still hold a nearer hit.
+            loop {
+                if sp == 0 {
+                    return best;
+                }
+                sp -= 1;
+                // SAFETY: entries below `sp` were written before.
+                let e = unsafe { stack[sp].assume_init() };
+                if e.t <= t_cull {
+                    cur = e.child;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Tests a leaf's triangle blocks (and calls back its other primitives), narrowing `t_max` and
+    /// setting `best` at each nearer hit; with `ANY`, returns at the first.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn leaf_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
+        &self,
+        blocks: &[TriBlock],
+        count: usize,
+        rt: &RayTri,
+        prims: &P,
+        ray: &Ray,
+        t_max: &mut f32,
+        best: &mut Option<Hit>,
+    ) {
+        let mut vals = LaneValues::default();
+        let mut at = 0;
+        while at < blocks.len() {
+            // Two blocks per AVX filter where the leaf has them.
+            let (mut m, step) = if AVX && at + 1 < blocks.len() {
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `AVX` is true only inside `traverse_avx2`.
+                let m = unsafe {
+                    rt.candidates_pair_avx2(&blocks[at], &blocks[at + 1], *t_max, &mut vals)
+                };
+                #[cfg(not(target_arch = "x86_64"))]
+                let m = unreachable!("AVX traversal on a target without it");
+                (m, 2)
+            } else {
+                (rt.candidates(&blocks[at], *t_max, &mut vals), 1)
+            };
+            // The last block's unused lanes repeat lane 0: skip them (a called-back
+            // primitive there would be tested twice).
+            let lanes = count - 4 * at;
+            if lanes < 8 {
+                m &= (1 << lanes) - 1;
+            }
+            let pair = &blocks[at..at + step];
+            at += step;
+            while m != 0 {
+                let bit = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let (b, lane) = (&pair[bit / 4], bit % 4);
+                let id = b.id[lane];
+                let h = match b.triangle(lane) {
+                    Some(tri) => finish(&vals, bit, tri, ray, *t_max),
+                    None => prims.intersect(id as usize, ray, *t_max),
+                };
+                if let Some(h) = h {
+                    *best = Some(Hit::new(id as usize, h));
+                    if ANY {
+                        return;
+                    }
+                    *t_max = h.t;
+                }
+            }
+        }
+    }
+}

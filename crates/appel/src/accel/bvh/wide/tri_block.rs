@@ -1,0 +1,535 @@
+//! Four triangles gathered into one leaf block, structure of arrays, and a SIMD filter that runs the
+//! watertight test's edge functions (Woop, Benthin & Wald 2013) on all four at once.
+//!
+//! The filter computes, lane by lane, exactly the floating-point operations of
+//! [`crate::geometry::triangle::watertight`] in the same order (no fused multiply-adds), and rejects
+//! a lane only where that function would certainly reject it: a ray outside the triangle's closed
+//! edges with no edge function exactly zero (which that function re-evaluates in f64), or a `t`
+//! outside its loosened range. Every surviving lane is decided by the scalar function itself, so a
+//! block reports exactly the hits that testing its triangles one by one reports, bit for bit.
+
+use crate::geometry::triangle::{watertight, watertight_finish};
+use crate::geometry::PrimHit;
+use crate::math::{Ray, Vec3};
+
+/// Four triangles (`v[3 * k + axis]` is coordinate `axis` of vertex `k`, one lane per triangle)
+/// and their primitive ids. Lanes of other primitives have NaN vertices and are called back; a
+/// leaf's last block repeats its lane 0 in its unused lanes, which traversal masks off by the
+/// leaf's primitive count.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug)]
+pub struct TriBlock {
+    pub v: [[f32; 4]; 9],
+    pub id: [u32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<TriBlock>() == 160);
+
+impl TriBlock {
+    /// `lanes[i]` is a primitive id and its triangle, or `None` for a primitive that is called back.
+    pub fn new(lanes: &[(u32, Option<[Vec3; 3]>)]) -> Self {
+        assert!(!lanes.is_empty() && lanes.len() <= 4);
+        let mut b = TriBlock {
+            v: [[f32::NAN; 4]; 9],
+            id: [0; 4],
+        };
+        for lane in 0..4 {
+            let (id, tri) = lanes[if lane < lanes.len() { lane } else { 0 }];
+            b.id[lane] = id;
+            if let Some(tri) = tri {
+                for (k, p) in tri.iter().enumerate() {
+                    for a in 0..3 {
+                        b.v[3 * k + a][lane] = p[a];
+                    }
+                }
+            }
+        }
+        b
+    }
+
+    /// The triangle in `lane`, or `None` for a called-back primitive.
+    #[inline(always)]
+    pub fn triangle(&self, lane: usize) -> Option<[Vec3; 3]> {
+        let v = |k: usize| {
+            Vec3::new(
+                self.v[3 * k][lane],
+                self.v[3 * k + 1][lane],
+                self.v[3 * k + 2][lane],
+            )
+        };
+        let p0 = v(0);
+        (!p0.x.is_nan()).then(|| [p0, v(1), v(2)])
+    }
+}
+
+/// The filter's body over any lane width: `$row(r)` loads row `r` of the block(s). Each step is
+/// the scalar test's operation, in its order.
+#[cfg(target_arch = "x86_64")]
+macro_rules! filter {
+    ($rt:expr, $t_max:expr, $row:expr, $store:expr) => {{
+        let rt: &RayTri = $rt;
+        let row = $row;
+        let mut put = $store;
+        let ld = |k: usize, a: usize| row(3 * k + rt.k[a]);
+        let [ox, oy, oz] = rt.o.map(|x| splat(x));
+        let [sx, sy, sz] = rt.s.map(|x| splat(x));
+        // Translate to the ray origin, permute, shear (pbrt-v4 eq. 6.5 onwards).
+        let vert = |k: usize| {
+            let z = sub(ld(k, 2), oz);
+            let x = add(sub(ld(k, 0), ox), mul(sx, z));
+            let y = add(sub(ld(k, 1), oy), mul(sy, z));
+            (x, y, z)
+        };
+        let (x0, y0, z0) = vert(0);
+        let (x1, y1, z1) = vert(1);
+        let (x2, y2, z2) = vert(2);
+        let edge = |ax, ay, bx, by| sub(mul(ax, by), mul(ay, bx));
+        let e0 = edge(x1, y1, x2, y2);
+        let e1 = edge(x2, y2, x0, y0);
+        let e2 = edge(x0, y0, x1, y1);
+        let zero = splat(0.0);
+        let any_zero = or(or(eq(e0, zero), eq(e1, zero)), eq(e2, zero));
+        let any_neg = or(or(lt(e0, zero), lt(e1, zero)), lt(e2, zero));
+        let any_pos = or(or(gt(e0, zero), gt(e1, zero)), gt(e2, zero));
+        let outside = and(any_neg, any_pos);
+        let det = add(add(e0, e1), e2);
+        let (z0, z1, z2) = (mul(z0, sz), mul(z1, sz), mul(z2, sz));
+        let t_scaled = add(add(mul(e0, z0), mul(e1, z1)), mul(e2, z2));
+        for (r, v) in [x0, x1, x2, y0, y1, y2, z0, z1, z2, e0, e1, e2]
+            .into_iter()
+            .enumerate()
+        {
+            put(r, v);
+        }
+        let loose = mul(mul(splat($t_max), det), splat(1.0 + 4.0 * f32::EPSILON));
+        let reject_t = or(
+            or(
+                eq(det, zero),
+                and(lt(det, zero), or(ge(t_scaled, zero), lt(t_scaled, loose))),
+            ),
+            and(gt(det, zero), or(le(t_scaled, zero), gt(t_scaled, loose))),
+        );
+        mask(or(any_zero, not(or(outside, reject_t))))
+    }};
+}
+
+/// The vector operations of [`filter!`], in SSE (4 lanes) and AVX (8 lanes). Comparisons are the
+/// ordered ones (false when either operand is NaN), like Rust's scalar comparisons.
+#[cfg(target_arch = "x86_64")]
+mod simd {
+    pub mod sse {
+        use std::arch::x86_64::*;
+        type V = __m128;
+        #[inline(always)]
+        pub unsafe fn load(p: *const f32) -> V {
+            _mm_load_ps(p)
+        }
+        #[inline(always)]
+        pub unsafe fn store(p: *mut f32, v: V) {
+            _mm_storeu_ps(p, v)
+        }
+        #[inline(always)]
+        pub unsafe fn splat(x: f32) -> V {
+            _mm_set1_ps(x)
+        }
+        #[inline(always)]
+        pub unsafe fn add(a: V, b: V) -> V {
+            _mm_add_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn sub(a: V, b: V) -> V {
+            _mm_sub_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn mul(a: V, b: V) -> V {
+            _mm_mul_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn eq(a: V, b: V) -> V {
+            _mm_cmpeq_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn lt(a: V, b: V) -> V {
+            _mm_cmplt_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn le(a: V, b: V) -> V {
+            _mm_cmple_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn gt(a: V, b: V) -> V {
+            _mm_cmpgt_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn ge(a: V, b: V) -> V {
+            _mm_cmpge_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn or(a: V, b: V) -> V {
+            _mm_or_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn and(a: V, b: V) -> V {
+            _mm_and_ps(a, b)
+        }
+        #[inline(always)]
+        pub unsafe fn not(a: V) -> V {
+            _mm_xor_ps(a, _mm_castsi128_ps(_mm_set1_epi32(-1)))
+        }
+        #[inline(always)]
+        pub unsafe fn mask(a: V) -> u32 {
+            _mm_movemask_ps(a) as u32
+        }
+    }
+
+    /// Callers must have AVX2 (every function here is compiled for it).
+    pub mod avx {
+        use std::arch::x86_64::*;
+        type V = __m256;
+        /// Lanes 0-3 from `lo`, 4-7 from `hi`.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn load2(hi: *const f32, lo: *const f32) -> V {
+            _mm256_loadu2_m128(hi, lo)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn store(p: *mut f32, v: V) {
+            _mm256_storeu_ps(p, v)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn splat(x: f32) -> V {
+            _mm256_set1_ps(x)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn add(a: V, b: V) -> V {
+            _mm256_add_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn sub(a: V, b: V) -> V {
+            _mm256_sub_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn mul(a: V, b: V) -> V {
+            _mm256_mul_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn eq(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_EQ_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn lt(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_LT_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn le(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_LE_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn gt(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_GT_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn ge(a: V, b: V) -> V {
+            _mm256_cmp_ps::<_CMP_GE_OQ>(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn or(a: V, b: V) -> V {
+            _mm256_or_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn and(a: V, b: V) -> V {
+            _mm256_and_ps(a, b)
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn not(a: V) -> V {
+            _mm256_xor_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(-1)))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub unsafe fn mask(a: V) -> u32 {
+            _mm256_movemask_ps(a) as u32
+        }
+    }
+}
+
+/// The filter's intermediate values of up to eight lanes: rows 0-2 the sheared `x` of the three
+/// vertices, 3-5 their `y`, 6-8 their scaled `z`, 9-11 the edge functions.
+#[derive(Clone, Copy, Debug)]
+pub struct LaneValues {
+    pub r: [[f32; 8]; 12],
+}
+
+impl Default for LaneValues {
+    fn default() -> Self {
+        Self { r: [[0.0; 8]; 12] }
+    }
+}
+
+/// Decides a lane the filter kept: exactly [`watertight`] on the lane's triangle, finished from the
+/// filter's values unless an edge function is exactly zero (which the scalar test re-evaluates in
+/// f64, so it gets the whole scalar test).
+#[inline(always)]
+pub fn finish(
+    v: &LaneValues,
+    lane: usize,
+    tri: [Vec3; 3],
+    ray: &Ray,
+    t_max: f32,
+) -> Option<PrimHit> {
+    let e = [v.r[9][lane], v.r[10][lane], v.r[11][lane]];
+    if e.contains(&0.0) {
+        return watertight(ray, t_max, tri[0], tri[1], tri[2]);
+    }
+    let row = |k: usize| [v.r[k][lane], v.r[k + 1][lane], v.r[k + 2][lane]];
+    // The largest component of |dir| is |dir[kz]|, which the error bound needs (see
+    // `watertight_finish`).
+    let dz_abs = ray.dir.abs().max_element();
+    watertight_finish(row(0), row(3), row(6), e, t_max, dz_abs)
+}
+
+/// What the filter needs of a ray, computed once per ray: the watertight test's permutation (`kz`
+/// the axis of the largest direction component) and shear.
+#[derive(Clone, Copy, Debug)]
+pub struct RayTri {
+    k: [usize; 3],
+    o: [f32; 3],
+    s: [f32; 3],
+}
+
+impl RayTri {
+    #[inline(always)]
+    pub fn new(ray: &Ray) -> Self {
+        let ad = ray.dir.abs();
+        let kz = if ad.x > ad.y {
+            if ad.x > ad.z {
+                0
+            } else {
+                2
+            }
+        } else if ad.y > ad.z {
+            1
+        } else {
+            2
+        };
+        let kx = if kz == 2 { 0 } else { kz + 1 };
+        let ky = if kx == 2 { 0 } else { kx + 1 };
+        let d = ray.dir;
+        // A zero direction gives NaN shears: every lane survives the filter and the scalar test
+        // rejects it, as it rejects such a ray.
+        Self {
+            k: [kx, ky, kz],
+            o: [ray.origin[kx], ray.origin[ky], ray.origin[kz]],
+            s: [-d[kx] / d[kz], -d[ky] / d[kz], 1.0 / d[kz]],
+        }
+    }
+
+    /// Bit `i` is set if lane `i` may hit in `(0, t_max)`: the lanes to finish one by one (with
+    /// [`finish`]), whose intermediate values are left in `out`.
+    #[inline(always)]
+    pub fn candidates(&self, b: &TriBlock, t_max: f32, out: &mut LaneValues) -> u32 {
+        #[cfg(target_arch = "x86_64")]
+        {
+            self.candidates_sse(b, t_max, out)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            self.candidates_scalar(b, t_max, out)
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn candidates_sse(&self, b: &TriBlock, t_max: f32, out: &mut LaneValues) -> u32 {
+        // SAFETY: SSE and SSE2 are part of x86_64; the loads read 16-byte aligned `[f32; 4]` rows,
+        // the stores write the first four floats of `[f32; 8]` rows.
+        unsafe {
+            use simd::sse::*;
+            filter!(
+                self,
+                t_max,
+                |row: usize| load(b.v[row].as_ptr()),
+                |r: usize, v| store(out.r[r].as_mut_ptr(), v)
+            )
+        }
+    }
+
+    /// [`Self::candidates`] of two blocks at once in AVX: bits 0-3 are `a`'s lanes, 4-7 `b`'s.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn candidates_pair_avx2(
+        &self,
+        a: &TriBlock,
+        b: &TriBlock,
+        t_max: f32,
+        out: &mut LaneValues,
+    ) -> u32 {
+        use simd::avx::*;
+        filter!(
+            self,
+            t_max,
+            |row: usize| load2(b.v[row].as_ptr(), a.v[row].as_ptr()),
+            |r: usize, v| store(out.r[r].as_mut_ptr(), v)
+        )
+    }
+
+    /// The same filter one lane at a time, for targets without the SSE path.
+    #[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+    fn candidates_scalar(&self, b: &TriBlock, t_max: f32, out: &mut LaneValues) -> u32 {
+        let mut mask = 0;
+        for lane in 0..4 {
+            let ld = |k: usize, a: usize| b.v[3 * k + self.k[a]][lane];
+            let vert = |k: usize| {
+                let z = ld(k, 2) - self.o[2];
+                (
+                    ld(k, 0) - self.o[0] + self.s[0] * z,
+                    ld(k, 1) - self.o[1] + self.s[1] * z,
+                    z,
+                )
+            };
+            let (x0, y0, z0) = vert(0);
+            let (x1, y1, z1) = vert(1);
+            let (x2, y2, z2) = vert(2);
+            let e0 = x1 * y2 - y1 * x2;
+            let e1 = x2 * y0 - y2 * x0;
+            let e2 = x0 * y1 - y0 * x1;
+            let any_zero = e0 == 0.0 || e1 == 0.0 || e2 == 0.0;
+            let outside = (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0);
+            let det = e0 + e1 + e2;
+            let sz = self.s[2];
+            let (z0, z1, z2) = (z0 * sz, z1 * sz, z2 * sz);
+            let t_scaled = e0 * z0 + e1 * z1 + e2 * z2;
+            for (r, v) in [x0, x1, x2, y0, y1, y2, z0, z1, z2, e0, e1, e2]
+                .into_iter()
+                .enumerate()
+            {
+                out.r[r][lane] = v;
+            }
+            let loose = t_max * det * (1.0 + 4.0 * f32::EPSILON);
+            let reject_t = det == 0.0
+                || (det < 0.0 && (t_scaled >= 0.0 || t_scaled < loose))
+                || (det > 0.0 && (t_scaled <= 0.0 || t_scaled > loose));
+            if any_zero || !(outside || reject_t) {
+                mask |= 1 << lane;
+            }
+        }
+        mask
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::triangle::watertight;
+
+    fn lcg(s: &mut u64) -> f32 {
+        *s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((*s >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    }
+
+    /// The filter never drops a lane the scalar test hits, the SSE and scalar filters agree, and
+    /// it rejects most misses (else it would be no filter).
+    #[test]
+    fn filter_keeps_every_hit_and_rejects_most_misses() {
+        let mut s = 7u64;
+        let (mut hits, mut kept, mut total) = (0, 0, 0);
+        for i in 0..20_000 {
+            let p = |s: &mut u64| Vec3::new(lcg(s), lcg(s), lcg(s));
+            let tris: Vec<[Vec3; 3]> = (0..4).map(|_| [p(&mut s), p(&mut s), p(&mut s)]).collect();
+            // Some rays along axes, some through shared vertices, most random.
+            let dir = match i % 5 {
+                0 => Vec3::X,
+                1 => -Vec3::Z,
+                _ => p(&mut s),
+            };
+            let origin = if i % 7 == 0 {
+                tris[0][1] - dir
+            } else {
+                p(&mut s) * 2.0
+            };
+            let ray = Ray::new(origin, dir);
+            let lanes: Vec<_> = tris
+                .iter()
+                .enumerate()
+                .map(|(k, t)| (k as u32, Some(*t)))
+                .collect();
+            let b = TriBlock::new(&lanes);
+            let rt = RayTri::new(&ray);
+            let t_max = if i % 3 == 0 { 1.5 } else { f32::INFINITY };
+            let mut vals = LaneValues::default();
+            let mut scalar_vals = LaneValues::default();
+            let mask = rt.candidates(&b, t_max, &mut vals);
+            assert_eq!(mask, rt.candidates_scalar(&b, t_max, &mut scalar_vals));
+            #[cfg(target_arch = "x86_64")]
+            if std::is_x86_feature_detected!("avx2") {
+                let other = TriBlock::new(&lanes[1..]);
+                // SAFETY: the CPU has AVX2.
+                let mut pair_vals = LaneValues::default();
+                let pair = unsafe { rt.candidates_pair_avx2(&b, &other, t_max, &mut pair_vals) };
+                let mut other_vals = LaneValues::default();
+                assert_eq!(
+                    pair,
+                    mask | rt.candidates(&other, t_max, &mut other_vals) << 4
+                );
+            }
+            for (k, t) in tris.iter().enumerate() {
+                total += 1;
+                kept += (mask >> k) & 1;
+                if mask & (1 << k) != 0 {
+                    // Finishing from the filter's values is the scalar test, bit for bit.
+                    let want = watertight(&ray, t_max, t[0], t[1], t[2]);
+                    assert_eq!(finish(&vals, k, *t, &ray, t_max), want, "ray {i} lane {k}");
+                    assert_eq!(finish(&scalar_vals, k, *t, &ray, t_max), want);
+                }
+                if watertight(&ray, t_max, t[0], t[1], t[2]).is_some() {
+                    hits += 1;
+                    assert!(
+                        mask & (1 << k) != 0,
+                        "ray {i} lane {k}: a hit was filtered out"
+                    );
+                }
+            }
+        }
+        assert!(hits > 1000, "{hits}");
+        // Survivors are the hits and the rare exactly-zero edge; nearly every miss is filtered.
+        assert!(
+            kept < hits + total / 100,
+            "kept {kept} of {total}, {hits} hits"
+        );
+    }
+
+    #[test]
+    fn padding_repeats_lane_zero_and_other_primitives_are_nan() {
+        let t = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let b = TriBlock::new(&[(5, Some(t)), (9, None)]);
+        assert_eq!(b.id, [5, 9, 5, 5]);
+        assert_eq!(b.triangle(0), Some(t));
+        assert_eq!(b.triangle(1), None);
+        assert_eq!(b.triangle(3), Some(t));
+        let r = Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
+        // The called-back lane always survives; the triangle lanes hit.
+        let mut vals = LaneValues::default();
+        assert_eq!(
+            RayTri::new(&r).candidates(&b, f32::INFINITY, &mut vals),
+            0b1111
+        );
+    }
+}
