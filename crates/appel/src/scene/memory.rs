@@ -9,9 +9,10 @@ use crate::io::ply::read_ply_counts;
 use std::path::Path;
 
 /// Bytes per stored triangle besides its vertices: the index triple (12), its 8-byte reference in
-/// the scene's primitive list, and the finished BVH (measured: 34 MB for 1M triangles, see
-/// docs/accel.md).
-const PER_TRIANGLE: u64 = 12 + 8 + 36;
+/// the scene's primitive list, and the finished BVH (measured: 30 bytes per triangle for the binary
+/// BVH, 54 for the 8-wide one with its triangle blocks, on the 10M-triangle city;
+/// docs/performance.md).
+const PER_TRIANGLE: u64 = 12 + 8 + 56;
 /// Per vertex: position, normal and texture coordinates (assumed present: an upper bound).
 const PER_VERTEX: u64 = 12 + 12 + 8;
 /// The BVH builder's scratch, per primitive of the structure being built (bounds and indices,
