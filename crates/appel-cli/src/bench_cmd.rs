@@ -1,11 +1,11 @@
-use crate::scene_args::{load_scene, parse_size, ViewArgs};
+use crate::scene_args::{load_scene_with, parse_size, ViewArgs};
 use anyhow::{anyhow, bail, Result};
 use appel::accel::AccelKind;
 use appel::bench::{
     bench_accel, bench_embree, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget,
     EmbreeBenchOptions, BENCH_SCENES,
 };
-use appel::scene::Description;
+use appel::scene::{Description, SceneOptions};
 use embree_peer::BuildQuality;
 
 mod frames;
@@ -204,12 +204,16 @@ fn load_target(
         return Ok(t);
     }
     let adjust = |d: &mut Description| {
-        // The structures are built by the benchmark itself; the scene's own choice is not measured.
-        d.render.accel = "brute".into();
         (d.camera.width, d.camera.height) = (w, h);
         view.apply(d)
     };
-    let (scene, _) = load_scene(Some(name), adjust).map_err(|e| {
+    // The benchmark builds the top-level structures itself; the scene's own is not built. Meshes
+    // declared for instancing keep structures of the scene's kind.
+    let skip = SceneOptions {
+        skip_top_level: true,
+        ..Default::default()
+    };
+    let (scene, _) = load_scene_with(Some(name), adjust, skip).map_err(|e| {
         anyhow!(
             "{e:#}\n(generated benchmark scenes: {})",
             BENCH_SCENES

@@ -1,8 +1,8 @@
-use crate::scene_args::load_scene;
+use crate::scene_args::load_scene_with;
 use anyhow::{bail, Result};
 use appel::geometry::TriangleMesh;
 use appel::math::Vec3;
-use appel::scene::{SceneHit, ShapeKind};
+use appel::scene::{SceneHit, SceneOptions, ShapeKind, NO_INSTANCE};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -26,14 +26,16 @@ pub fn run(args: ConvertArgs) -> Result<()> {
             args.output.display()
         );
     }
-    let (scene, _) = load_scene(Some(&args.input), |d| {
-        d.render.accel = "brute".into();
-        Ok(())
-    })?;
+    let skip = SceneOptions {
+        skip_top_level: true,
+        ..Default::default()
+    };
+    let (scene, _) = load_scene_with(Some(&args.input), |_| Ok(()), skip)?;
     // One mesh per `[[shape]]`, its triangles in the source file's order, so that a triangle's index
-    // in the output is its `[[shape]]`'s offset plus its `primid`.
+    // in the output is its `[[shape]]`'s offset plus its `primid`. Instances are flattened: one
+    // mesh per `[[instance]]` entry, its placements one after the other.
     let g = &scene.geometry;
-    let mut by_source: BTreeMap<u32, Vec<(u32, [Vec3; 3])>> = BTreeMap::new();
+    let mut by_source: BTreeMap<u32, Vec<(u64, [Vec3; 3])>> = BTreeMap::new();
     for (id, shape) in g.shapes.iter().enumerate() {
         if let ShapeKind::Mesh(m) = shape.kind {
             let mesh = &g.meshes[m as usize];
@@ -44,14 +46,45 @@ pub fn run(args: ConvertArgs) -> Result<()> {
                     prim: t as u32,
                     u: 0.0,
                     v: 0.0,
+                    instance: NO_INSTANCE,
                 };
                 let (source, prim) = g.source_ids(&hit);
                 by_source
                     .entry(source)
                     .or_default()
-                    .push((prim, mesh.vertices(t)));
+                    .push((prim as u64, mesh.vertices(t)));
             }
         }
+    }
+    let mut placement_in_entry: BTreeMap<u32, u64> = BTreeMap::new();
+    for (i, instance) in g.instances.iter().enumerate() {
+        let order = placement_in_entry.entry(instance.source).or_default();
+        let prototype = &g.prototypes[instance.prototype as usize].geometry;
+        for (id, shape) in prototype.shapes.iter().enumerate() {
+            let ShapeKind::Mesh(m) = shape.kind else {
+                continue;
+            };
+            let mesh = &prototype.meshes[m as usize];
+            for t in 0..mesh.triangle_count() {
+                let hit = SceneHit {
+                    t: 0.0,
+                    shape: id as u32,
+                    prim: t as u32,
+                    u: 0.0,
+                    v: 0.0,
+                    instance: i as u32,
+                };
+                let (source, prim) = g.source_ids(&hit);
+                let v = mesh
+                    .vertices(t)
+                    .map(|p| instance.transform.point_to_world(p));
+                by_source
+                    .entry(source)
+                    .or_default()
+                    .push(((*order << 32) | prim as u64, v));
+            }
+        }
+        *order += 1;
     }
     let owned: Vec<(u32, TriangleMesh)> = by_source
         .into_iter()

@@ -19,7 +19,7 @@ pub struct InsideArgs {
 }
 
 pub fn run(args: InsideArgs) -> Result<()> {
-    let loaded = load_mesh(&args.mesh)?;
+    let loaded = load_mesh(&args.mesh)?.flattened();
     let mut mesh = TriangleMesh::default();
     for part in &loaded.parts {
         append(&mut mesh, &part.mesh);

@@ -3,7 +3,9 @@
 
 mod bench_cmd;
 mod convert_cmd;
+mod gen_cmd;
 mod inside_cmd;
+mod memory;
 mod render_cmd;
 mod scene_args;
 mod scenes_cmd;
@@ -30,6 +32,8 @@ enum Command {
     Bench(bench_cmd::BenchArgs),
     /// Write a scene's or mesh's triangles as one binary PLY, in Appel's triangle order.
     Convert(convert_cmd::ConvertArgs),
+    /// Write a large reproducible scene (ecosystem or city) from a seed.
+    Gen(gen_cmd::GenArgs),
     /// Tell, for each point of a list, whether it lies inside a closed mesh.
     Inside(inside_cmd::InsideArgs),
     /// List the built-in scenes, or print one as a scene file to edit.
@@ -44,6 +48,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench_cmd::run(args),
         Command::Convert(args) => convert_cmd::run(args),
         Command::Inside(args) => inside_cmd::run(args),
+        Command::Gen(args) => gen_cmd::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,12 +1,12 @@
-use crate::scene_args::{load_scene, ViewArgs};
+use crate::scene_args::{load_scene_with, ViewArgs};
 use anyhow::{anyhow, bail, Context, Result};
 use appel::io::image::{write_image, Aovs, ImageFormat};
 use appel::render::{render, RenderOptions};
-use appel::scene::Description;
+use appel::scene::{Description, LoadStep, SceneOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use std::sync::Arc;
 
 #[derive(clap::Args)]
@@ -17,7 +17,7 @@ pub struct RenderArgs {
     /// Output image: .png (8-bit sRGB) or .exr (linear float RGB, plus AOVs).
     #[arg(short, long, default_value = "render.png")]
     output: PathBuf,
-    /// AOV channels to add to an EXR: a comma-separated list of depth, normal, shapeid, primid.
+    /// AOV channels to add to an EXR: a comma-separated list of depth, normal, shapeid, primid, instanceid.
     #[arg(long, value_name = "LIST")]
     aov: Option<String>,
     /// Worker threads (default: all cores). The image is identical for any count.
@@ -68,8 +68,59 @@ pub fn run(args: RenderArgs) -> Result<()> {
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .context("cannot start the worker threads")?;
-    let (scene, parse_time) =
-        pool.install(|| load_scene(args.scene.as_deref(), |d| apply_settings(d, &args)))?;
+    // Ctrl-C: while loading and building nothing has been written, so the process ends at once
+    // (a structure build cannot be interrupted half-way, and may take minutes); while rendering,
+    // the render stops after the tiles in flight and nothing is written; while the image is being
+    // written it finishes (the write is atomic and short).
+    let cancel = Arc::new(AtomicBool::new(false));
+    let phase = Arc::new(AtomicU8::new(LOADING));
+    {
+        let (cancel, phase) = (cancel.clone(), phase.clone());
+        let _ = ctrlc::set_handler(move || match phase.load(Ordering::SeqCst) {
+            LOADING => {
+                eprintln!("\ninterrupted while loading: nothing was written");
+                std::process::exit(130);
+            }
+            _ => cancel.store(true, Ordering::SeqCst),
+        });
+    }
+    let show = !args.quiet && std::io::stderr().is_terminal();
+    let load_bar = show.then(|| {
+        let bar = ProgressBar::new(1);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner} loading [{bar:40}] {pos}/{len} {elapsed} {msg}",
+            )
+            .expect("static template")
+            .progress_chars("=> "),
+        );
+        bar.enable_steady_tick(std::time::Duration::from_millis(200));
+        bar
+    });
+    let step = |s: &LoadStep| {
+        if let Some(b) = &load_bar {
+            b.set_length(s.total);
+            b.set_position(s.done);
+            b.set_message(s.what.to_string());
+        }
+    };
+    let scene_options = SceneOptions {
+        progress: Some(&step),
+        cancel: Some(&cancel),
+        ..Default::default()
+    };
+    let loaded = pool.install(|| {
+        load_scene_with(
+            args.scene.as_deref(),
+            |d| apply_settings(d, &args),
+            scene_options,
+        )
+    });
+    if let Some(b) = load_bar {
+        b.finish_and_clear();
+    }
+    let (scene, parse_time) = loaded?;
+    phase.store(RENDERING, Ordering::SeqCst);
     if args.stats {
         let s = scene.accel_stats();
         let layout = match &scene.accel {
@@ -96,14 +147,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         );
     }
 
-    let cancel = Arc::new(AtomicBool::new(false));
-    {
-        let cancel = cancel.clone();
-        // Ctrl-C stops the render at the next tile; nothing is written.
-        let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::Relaxed));
-    }
     let pixels = scene.camera.width as u64 * scene.camera.height as u64;
-    let bar = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+    let bar = show.then(|| {
         let bar = ProgressBar::new(pixels);
         bar.set_style(
             ProgressStyle::with_template(
@@ -123,16 +168,21 @@ pub fn run(args: RenderArgs) -> Result<()> {
         progress: Some(&progress),
         cancel: Some(&cancel),
     };
-    let (film, stats) = pool.install(|| render(&scene, &options))?;
+    let rendered = pool.install(|| render(&scene, &options));
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    let (film, stats) = rendered?;
+    phase.store(WRITING, Ordering::SeqCst);
     write_image(&args.output, &film, aovs)?;
+    let peak = crate::memory::peak_rss_bytes()
+        .map(|b| format!(" | peak RSS {:.0} MB", b as f64 / 1e6))
+        .unwrap_or_default();
 
     let r = stats.rays;
     let load = parse_time + scene.timings.load;
     println!(
-        "{}: {}x{} | load {:.3}s build {:.3}s render {:.3}s | rays: camera {} shadow {} reflection {} refraction {} | {:.2} Mrays/s",
+        "{}: {}x{} | load {:.3}s build {:.3}s render {:.3}s | rays: camera {} shadow {} reflection {} refraction {} | {:.2} Mrays/s{peak}",
         args.output.display(),
         film.width,
         film.height,
@@ -157,6 +207,10 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     Ok(())
 }
+
+const LOADING: u8 = 0;
+const RENDERING: u8 = 1;
+const WRITING: u8 = 2;
 
 /// Applies the flags that override the scene's `[render]` settings and its camera.
 fn apply_settings(d: &mut Description, a: &RenderArgs) -> Result<()> {

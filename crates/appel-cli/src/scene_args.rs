@@ -7,7 +7,7 @@ use appel::scene::builtin::builtin_scene;
 use appel::scene::parse::Syntax;
 use appel::scene::{
     description_from_str, frame_model, load_description, model_description, validate, Description,
-    Scene,
+    Scene, SceneOptions,
 };
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -61,12 +61,24 @@ pub fn load_scene(
     name: Option<&str>,
     adjust: impl Fn(&mut Description) -> Result<()>,
 ) -> Result<(Scene, Duration)> {
+    load_scene_with(name, adjust, SceneOptions::default())
+}
+
+/// [`load_scene`] with progress reports and cancellation while files load and structures build.
+/// Before anything large is read, the scene's estimated memory is checked against what is
+/// available.
+pub fn load_scene_with(
+    name: Option<&str>,
+    adjust: impl Fn(&mut Description) -> Result<()>,
+    options: SceneOptions,
+) -> Result<(Scene, Duration)> {
     let start = Instant::now();
     let (mut description, base_dir, is_model) = read_scene_or_model(name)?;
     adjust(&mut description)?;
     check(&description)?;
+    crate::memory::check_memory(&description, &base_dir)?;
     let parse_time = start.elapsed();
-    let mut scene = Scene::new(&description, &base_dir)?;
+    let mut scene = Scene::new_with(&description, &base_dir, options)?;
     if is_model {
         let mut framed = frame_model(&description, scene.geometry.bounds());
         adjust(&mut framed)?;

@@ -8,6 +8,7 @@ pub mod accel;
 pub mod bench;
 pub mod bench_frames;
 pub mod error;
+pub mod gen;
 pub mod geometry;
 pub mod io;
 pub mod math;

@@ -293,3 +293,72 @@ fn gltf_position_referring_to_a_missing_accessor_is_an_error_not_a_panic() {
         .to_string();
     assert!(e.contains("refers to accessor 0, but there are 0"), "{e}");
 }
+
+/// A glTF whose mesh (two triangles) is placed by three nodes: read once, placed three times.
+#[test]
+fn gltf_nodes_sharing_a_mesh_become_placements_of_one_copy() {
+    use base64::Engine;
+    let mut bytes = triangle_bytes();
+    bytes.extend(
+        [0f32, 0., 1., 1., 0., 1., 0., 1., 1.]
+            .iter()
+            .flat_map(|x| x.to_le_bytes()),
+    );
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&bytes)
+    );
+    let text = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1,2,3]}}],
+        "nodes":[{{"mesh":0,"translation":[10,0,0]}},{{"mesh":1}},{{"mesh":0,"scale":[2,2,2]}},
+                 {{"mesh":0,"rotation":[0,0.7071068,0,0.7071068]}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}},
+                  {{"primitives":[{{"attributes":{{"POSITION":1}}}}]}}],
+        "buffers":[{{"uri":"{uri}","byteLength":72}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":72}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":6,"type":"VEC3","min":[0,0,0],"max":[1,1,1]}},
+                     {{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}}"#
+    );
+    let m = parse_gltf_with(text.as_bytes(), Path::new("t.gltf"), &|_| Err("no".into())).unwrap();
+    // Mesh 0 (placed three times) is shared; mesh 1 (placed once) is a part as before.
+    assert_eq!(m.shared.len(), 1);
+    assert_eq!(m.placements.len(), 3);
+    assert_eq!(m.parts.len(), 1);
+    assert_eq!(m.triangle_count(), 3);
+    // File order: node 0's two triangles, node 1's one, node 2's two, node 3's two.
+    let firsts: Vec<u32> = m.placements.iter().map(|p| p.first_triangle).collect();
+    assert_eq!(firsts, vec![0, 3, 5]);
+    assert_eq!(m.parts[0].file_triangles, Some(vec![2]));
+    let flat = m.clone().flattened();
+    assert_eq!(flat.triangle_count(), 7);
+    let second = flat
+        .parts
+        .iter()
+        .find(|p| p.file_triangles == Some(vec![3, 4]))
+        .unwrap();
+    assert_eq!(second.mesh.vertices(0)[1], Vec3::new(2.0, 0.0, 0.0));
+    // In a scene: one prototype, three instances; hits report the file's triangle numbers.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.gltf"), &text).unwrap();
+    let scene_text = "[camera]\neye = [0.5, 0.3, 20.0]\nlook_at = [0.5, 0.3, 0.0]\n\
+        [[shape]]\ntype = \"sphere\"\ncenter = [0.0, 50.0, 0.0]\nradius = 1.0\n\
+        [[shape]]\ntype = \"mesh\"\nfile = \"t.gltf\"\n";
+    let d = appel::scene::description_from_str(
+        scene_text,
+        appel::scene::parse::Syntax::Toml,
+        Path::new("s.toml"),
+    )
+    .unwrap();
+    let scene = appel::scene::Scene::new(&d, dir.path()).unwrap();
+    assert_eq!(scene.geometry.prototypes.len(), 1);
+    assert_eq!(scene.geometry.instances.len(), 3);
+    let mut stats = appel::accel::TraversalStats::default();
+    // Along -z through (0.2, 0.2): node 0 sits at x = 10 and node 3's triangles stand in the
+    // planes x = 0 and x = 1, so the nearest is node 2's second triangle (z = 2 once scaled):
+    // file triangle 4, the second placement, in front of node 1's (z = 0).
+    let ray = appel::math::Ray::new(Vec3::new(0.2, 0.2, 20.0), -Vec3::Z);
+    let hit = scene.intersect(&ray, f32::INFINITY, &mut stats).unwrap();
+    assert_eq!(scene.geometry.source_ids(&hit), (1, 4));
+    assert_eq!(hit.instance, 1);
+    assert!((hit.t - 18.0).abs() < 1e-5);
+}

@@ -51,6 +51,8 @@ pub struct Hit {
     pub t: f32,
     pub u: f32,
     pub v: f32,
+    /// [`PrimHit::sub`]: the primitive hit inside primitive `prim` when that is a nested structure.
+    pub sub: u32,
 }
 
 impl Hit {
@@ -60,6 +62,7 @@ impl Hit {
             t: h.t,
             u: h.u,
             v: h.v,
+            sub: h.sub,
         }
     }
 }

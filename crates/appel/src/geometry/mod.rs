@@ -4,6 +4,7 @@
 //! [`SurfaceInteraction`] is computed once, for the final hit only.
 
 pub mod implicit;
+mod instance_transform;
 mod mesh;
 mod overlap;
 mod plane;
@@ -15,6 +16,7 @@ mod transform;
 pub mod triangle;
 
 pub use implicit::Implicit;
+pub use instance_transform::InstanceTransform;
 pub use mesh::TriangleMesh;
 pub use overlap::triangle_box_overlap;
 pub use plane::Plane;
@@ -32,6 +34,9 @@ pub struct PrimHit {
     pub t: f32,
     pub u: f32,
     pub v: f32,
+    /// The primitive hit inside a nested structure (a mesh instance's own triangles); 0 for a plain
+    /// surface.
+    pub sub: u32,
 }
 
 /// The local geometry at a hit point.

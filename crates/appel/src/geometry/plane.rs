@@ -82,6 +82,7 @@ impl Plane {
             t: t as f32,
             u: 0.0,
             v: 0.0,
+            sub: 0,
         })
     }
 

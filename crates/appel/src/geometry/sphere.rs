@@ -66,6 +66,7 @@ impl Sphere {
             t: t as f32,
             u: 0.0,
             v: 0.0,
+            sub: 0,
         })
     }
 

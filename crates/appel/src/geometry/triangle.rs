@@ -87,12 +87,14 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
         [p0t.z, p1t.z, p2t.z],
         [e0, e1, e2],
         t_max,
+        ad[kz],
     )
 }
 
 /// The rest of [`watertight`] from the translated, permuted and sheared vertices (`z` already
-/// scaled by the shear's `sz`) and the edge functions: the inside test, the determinant, the range of
-/// `t` and its error bound. SIMD filters that compute those values lane by lane with the same
+/// scaled by the shear's `sz`), the edge functions, and `dz_abs`, the magnitude of the ray
+/// direction's largest component (`1 / |sz|`): the inside test, the determinant, the range of `t`
+/// and its error bound. SIMD filters that compute those values lane by lane with the same
 /// operations finish here, so their hits are bit for bit the scalar test's.
 #[inline]
 pub(crate) fn watertight_finish(
@@ -101,6 +103,7 @@ pub(crate) fn watertight_finish(
     z: [f32; 3],
     [e0, e1, e2]: [f32; 3],
     t_max: f32,
+    dz_abs: f32,
 ) -> Option<PrimHit> {
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
         return None;
@@ -138,8 +141,15 @@ pub(crate) fn watertight_finish(
     let delta_z = gamma(3) * max_zt;
     let max_xt = Vec3::from(x).abs().max_element();
     let max_yt = Vec3::from(y).abs().max_element();
-    let delta_x = gamma(5) * (max_xt + max_zt);
-    let delta_y = gamma(5) * (max_yt + max_zt);
+    // The shear's rounding (the x and y error terms) grows with the vertices' z before it is
+    // divided by the direction's z: |sx|, |sy| <= 1 because z is the largest component, so the
+    // shear adds at most |z|. pbrt-v4 uses the z after the division, which is the same for a unit
+    // direction up to a factor of sqrt(3) but wrong by |d| for others: 10^4 times too large for the
+    // short directions of rays taken into a 10^4-times scaled instance (rejecting every hit), and
+    // too small for the long, unnormalized shadow rays of a 10^4-times scaled scene.
+    let max_z_unscaled = max_zt * dz_abs * (1.0 + 2.0 * f32::EPSILON);
+    let delta_x = gamma(5) * (max_xt + max_z_unscaled);
+    let delta_y = gamma(5) * (max_yt + max_z_unscaled);
     let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
     let max_e = Vec3::new(e0, e1, e2).abs().max_element();
     let delta_t =
@@ -147,7 +157,12 @@ pub(crate) fn watertight_finish(
     if t <= delta_t {
         return None;
     }
-    Some(PrimHit { t, u: b1, v: b2 })
+    Some(PrimHit {
+        t,
+        u: b1,
+        v: b2,
+        sub: 0,
+    })
 }
 
 /// Moller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection".
@@ -174,7 +189,7 @@ pub fn moller_trumbore(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> O
     }
     let t = e2.dot(qvec) * inv_det;
     if t > 0.0 && t < t_max {
-        Some(PrimHit { t, u, v })
+        Some(PrimHit { t, u, v, sub: 0 })
     } else {
         None
     }

@@ -2,7 +2,8 @@
 //!
 //! Every triangle-mode primitive of every mesh instanced in the default scene (or the first scene,
 //! or every root node if the file has no scene) becomes one part, transformed by its node's world
-//! matrix. Its material's base colour factor becomes the part's diffuse colour (alpha -> opacity);
+//! matrix. A mesh that several nodes place is read once, into [`LoadedMesh::shared`], and each
+//! node becomes a placement of it (an instance in the scene) instead of a copy. Its material's base colour factor becomes the part's diffuse colour (alpha -> opacity);
 //! textures are not read. Buffers are loaded here rather than by `gltf::import`, so that a missing
 //! `.bin` gives an error naming it, and no image decoder is pulled in.
 //!
@@ -10,7 +11,7 @@
 //! buffer or has the expected type (they assume validated data), so every accessor is checked here
 //! before it is read.
 
-use super::mesh_file::{transform_mesh, FileMaterial, LoadedMesh, MeshPart};
+use super::mesh_file::{transform_mesh, FileMaterial, LoadedMesh, MeshPart, SharedPlacement};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};
@@ -132,11 +133,18 @@ pub fn parse_gltf_with(
                 .collect()
         }
     };
+    let mut uses: HashMap<usize, usize> = HashMap::new();
+    for node in &roots {
+        count_mesh_uses(node, &mut uses, 0);
+    }
     let mut ctx = Ctx {
         path,
         buffers: &buffers,
         out: &mut out,
         material_ids: &mut material_ids,
+        uses: &uses,
+        shared_index: HashMap::new(),
+        triangles: 0,
     };
     for node in roots {
         ctx.node(&node, Mat4::IDENTITY, 0)?;
@@ -144,11 +152,31 @@ pub fn parse_gltf_with(
     Ok(out)
 }
 
+/// How many nodes under `node` place each mesh (cycles end at the depth limit, which `node`
+/// then reports as an error).
+fn count_mesh_uses(node: &Node, uses: &mut HashMap<usize, usize>, depth: usize) {
+    if depth > MAX_DEPTH {
+        return;
+    }
+    if let Some(m) = node.mesh() {
+        *uses.entry(m.index()).or_default() += 1;
+    }
+    for child in node.children() {
+        count_mesh_uses(&child, uses, depth + 1);
+    }
+}
+
 struct Ctx<'a> {
     path: &'a Path,
     buffers: &'a [Vec<u8>],
     out: &'a mut LoadedMesh,
     material_ids: &'a mut HashMap<Option<usize>, Option<u32>>,
+    /// Nodes placing each mesh: meshes placed more than once are shared.
+    uses: &'a HashMap<usize, usize>,
+    /// Index in `out.shared` of each shared mesh read so far.
+    shared_index: HashMap<usize, u32>,
+    /// Triangles so far in the file's order (placements of shared meshes included).
+    triangles: u32,
 }
 
 impl Ctx<'_> {
@@ -171,7 +199,41 @@ impl Ctx<'_> {
                 node.index()
             )));
         }
-        if let Some(mesh) = node.mesh() {
+        if let Some(mesh) = node.mesh().filter(|m| self.uses.get(&m.index()) > Some(&1)) {
+            let index = match self.shared_index.get(&mesh.index()) {
+                Some(&i) => i,
+                None => {
+                    let mut parts = vec![];
+                    for prim in mesh.primitives() {
+                        if prim.mode() != Mode::Triangles {
+                            continue;
+                        }
+                        let what = format!("mesh {} primitive {}", mesh.index(), prim.index());
+                        let tm = self.primitive(&prim, &what)?;
+                        let material = self.material(&prim.material());
+                        parts.push(MeshPart {
+                            mesh: tm,
+                            material,
+                            file_triangles: None,
+                        });
+                    }
+                    self.out.shared.push(parts);
+                    let i = self.out.shared.len() as u32 - 1;
+                    self.shared_index.insert(mesh.index(), i);
+                    i
+                }
+            };
+            let count: usize = self.out.shared[index as usize]
+                .iter()
+                .map(|p| p.mesh.triangle_count())
+                .sum();
+            self.out.placements.push(SharedPlacement {
+                mesh: index,
+                to_world: world,
+                first_triangle: self.triangles,
+            });
+            self.triangles += count as u32;
+        } else if let Some(mesh) = node.mesh() {
             for prim in mesh.primitives() {
                 if prim.mode() != Mode::Triangles {
                     continue;
@@ -185,11 +247,17 @@ impl Ctx<'_> {
                     );
                 }
                 let material = self.material(&prim.material());
+                // Parts number their triangles from where they stand in the file's order, which
+                // placements of shared meshes may interleave.
+                let count = tm.triangle_count() as u32;
+                let file_triangles = (self.triangles != self.out.parts_triangles())
+                    .then(|| (self.triangles..self.triangles + count).collect());
                 self.out.parts.push(MeshPart {
                     mesh: tm,
                     material,
-                    file_triangles: None,
+                    file_triangles,
                 });
+                self.triangles += count;
             }
         }
         for child in node.children() {

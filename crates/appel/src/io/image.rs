@@ -13,10 +13,12 @@ pub struct Aovs {
     pub normal: bool,
     pub shape_id: bool,
     pub prim_id: bool,
+    pub instance_id: bool,
 }
 
 impl Aovs {
-    pub const NAMES: &'static [&'static str] = &["depth", "normal", "shapeid", "primid"];
+    pub const NAMES: &'static [&'static str] =
+        &["depth", "normal", "shapeid", "primid", "instanceid"];
 
     /// Parses a comma-separated list such as `depth,normal,primid`. `primid` brings `shapeid` with it,
     /// since a primitive index means nothing without its shape.
@@ -31,6 +33,7 @@ impl Aovs {
                     a.prim_id = true;
                     a.shape_id = true;
                 }
+                "instanceid" => a.instance_id = true,
                 other => {
                     return Err(format!(
                         "unknown AOV `{other}`, expected a comma-separated list of: {}",
@@ -43,7 +46,7 @@ impl Aovs {
     }
 
     pub fn any(&self) -> bool {
-        self.depth || self.normal || self.shape_id || self.prim_id
+        self.depth || self.normal || self.shape_id || self.prim_id || self.instance_id
     }
 }
 
@@ -152,6 +155,12 @@ pub fn write_exr(path: &Path, film: &Film, aovs: Aovs) -> Result<()> {
         channels.push(AnyChannel::new(
             "primid",
             FlatSamples::U32(film.prim_id.clone()),
+        ));
+    }
+    if aovs.instance_id {
+        channels.push(AnyChannel::new(
+            "instanceid",
+            FlatSamples::U32(film.instance_id.clone()),
         ));
     }
     let layer = Layer::new(

@@ -56,17 +56,76 @@ pub struct MeshPart {
 pub struct LoadedMesh {
     pub parts: Vec<MeshPart>,
     pub materials: Vec<FileMaterial>,
+    /// Meshes the file places more than once (glTF nodes sharing a mesh), stored once in their own
+    /// object space.
+    pub shared: Vec<Vec<MeshPart>>,
+    /// Where each shared mesh is placed, in the file's node order.
+    pub placements: Vec<SharedPlacement>,
+}
+
+/// One placement of a shared mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SharedPlacement {
+    /// Index into [`LoadedMesh::shared`].
+    pub mesh: u32,
+    pub to_world: Mat4,
+    /// Index, in the file's order, of the placement's first triangle: its triangles number on
+    /// from there, as if the mesh had been copied.
+    pub first_triangle: u32,
 }
 
 impl LoadedMesh {
+    /// Triangles in the parts (not counting shared meshes).
+    pub fn parts_triangles(&self) -> u32 {
+        self.parts
+            .iter()
+            .map(|p| p.mesh.triangle_count() as u32)
+            .sum()
+    }
+
+    /// Triangles stored: the parts, and each shared mesh once.
     pub fn triangle_count(&self) -> usize {
-        self.parts.iter().map(|p| p.mesh.triangle_count()).sum()
+        let shared: usize = self
+            .shared
+            .iter()
+            .flatten()
+            .map(|p| p.mesh.triangle_count())
+            .sum();
+        self.parts
+            .iter()
+            .map(|p| p.mesh.triangle_count())
+            .sum::<usize>()
+            + shared
     }
 
     pub fn bounds(&self) -> Aabb {
+        let placed = self.placements.iter().fold(Aabb::EMPTY, |b, pl| {
+            self.shared[pl.mesh as usize].iter().fold(b, |b, part| {
+                part.mesh
+                    .positions
+                    .iter()
+                    .fold(b, |b, &p| b.include(pl.to_world.transform_point3(p)))
+            })
+        });
         self.parts
             .iter()
-            .fold(Aabb::EMPTY, |b, p| b.union(p.mesh.bounds()))
+            .fold(placed, |b, p| b.union(p.mesh.bounds()))
+    }
+
+    /// The same triangles with every placement of a shared mesh copied into the parts, for tools
+    /// that need one flat list (the scene keeps shared meshes as instances).
+    pub fn flattened(mut self) -> LoadedMesh {
+        for p in std::mem::take(&mut self.placements) {
+            for part in &self.shared[p.mesh as usize] {
+                let mut part = part.clone();
+                transform_mesh(&mut part.mesh, p.to_world);
+                let n = part.mesh.triangle_count() as u32;
+                part.file_triangles = Some((p.first_triangle..p.first_triangle + n).collect());
+                self.parts.push(part);
+            }
+        }
+        self.shared.clear();
+        self
     }
 
     /// Applies an affine transform: positions by `m`, normals by the inverse transpose of its linear
@@ -74,6 +133,9 @@ impl LoadedMesh {
     pub fn transform(&mut self, m: Mat4) {
         for part in &mut self.parts {
             transform_mesh(&mut part.mesh, m);
+        }
+        for p in &mut self.placements {
+            p.to_world = m * p.to_world;
         }
     }
 }

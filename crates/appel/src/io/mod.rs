@@ -5,6 +5,7 @@ pub mod gltf;
 pub mod image;
 pub mod mesh_file;
 pub mod obj;
+pub mod placements;
 pub mod ply;
 mod ply_write;
 pub mod points;
@@ -12,4 +13,4 @@ pub mod points;
 pub use ply_write::write_ply;
 
 pub use atomic::write_atomically;
-pub use mesh_file::{is_mesh_file, load_mesh, FileMaterial, LoadedMesh, MeshPart};
+pub use mesh_file::{is_mesh_file, load_mesh, FileMaterial, LoadedMesh, MeshPart, SharedPlacement};

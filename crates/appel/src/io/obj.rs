@@ -246,7 +246,11 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
             }
         })
         .collect();
-    Ok(LoadedMesh { parts, materials })
+    Ok(LoadedMesh {
+        parts,
+        materials,
+        ..Default::default()
+    })
 }
 
 /// `v`, `v/vt`, `v//vn` or `v/vt/vn` -> 0-based indices (`NONE` where absent).

@@ -145,6 +145,49 @@ fn vertex_slots(e: &Element) -> VertexSlots {
     }
 }
 
+/// Element counts from a PLY header, read without loading the data: what the memory estimate
+/// needs before a large file is loaded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PlyCounts {
+    pub vertices: u64,
+    /// Faces as declared; polygons with more than three corners become several triangles.
+    pub faces: u64,
+}
+
+/// Reads only the header of a PLY file (the first 64 KiB, decompressed for `.ply.gz`).
+pub fn read_ply_counts(path: &Path) -> Result<PlyCounts> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let gz = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    let mut reader: Box<dyn Read> = if gz {
+        Box::new(flate2::read::MultiGzDecoder::new(std::io::BufReader::new(
+            file,
+        )))
+    } else {
+        Box::new(file)
+    };
+    let mut head = Vec::new();
+    reader
+        .by_ref()
+        .take(64 * 1024)
+        .read_to_end(&mut head)
+        .map_err(|e| Error::io(path, e))?;
+    let header = parse_header(&head, path)?;
+    let count = |name: &str| {
+        header
+            .elements
+            .iter()
+            .find(|e| e.name == name)
+            .map_or(0, |e| e.count)
+    };
+    Ok(PlyCounts {
+        vertices: count("vertex"),
+        faces: count("face"),
+    })
+}
+
 pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
     let header = parse_header(data, path)?;
     let vi = header
@@ -212,7 +255,7 @@ pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
             material: None,
             file_triangles: None,
         }],
-        materials: vec![],
+        ..Default::default()
     })
 }
 

@@ -61,6 +61,7 @@ impl<'a> InsideTester<'a> {
                     t: hit.t,
                     u: hit.u,
                     v: hit.v,
+                    sub: hit.sub,
                 },
             );
             ray.origin = offset_ray_origin(si.p, si.p_error, si.n, dir);

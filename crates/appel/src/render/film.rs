@@ -16,6 +16,9 @@ pub struct Film {
     pub normal: Vec<Vec3>,
     pub shape_id: Vec<u32>,
     pub prim_id: Vec<u32>,
+    /// The instance hit (`[[instance]]` placements in file order); [`MISS_ID`] for misses and for
+    /// surfaces that are not instanced.
+    pub instance_id: Vec<u32>,
 }
 
 /// What the camera ray of one pixel saw first.
@@ -25,6 +28,7 @@ pub struct PixelAov {
     pub normal: Vec3,
     pub shape_id: u32,
     pub prim_id: u32,
+    pub instance_id: u32,
 }
 
 impl PixelAov {
@@ -33,6 +37,7 @@ impl PixelAov {
         normal: Vec3::ZERO,
         shape_id: MISS_ID,
         prim_id: MISS_ID,
+        instance_id: MISS_ID,
     };
 }
 
@@ -47,6 +52,7 @@ impl Film {
             normal: vec![Vec3::ZERO; n],
             shape_id: vec![MISS_ID; n],
             prim_id: vec![MISS_ID; n],
+            instance_id: vec![MISS_ID; n],
         }
     }
 
@@ -62,6 +68,7 @@ impl Film {
             normal: Vec::with_capacity(n),
             shape_id: Vec::with_capacity(n),
             prim_id: Vec::with_capacity(n),
+            instance_id: Vec::with_capacity(n),
         }
     }
 
@@ -72,6 +79,8 @@ impl Film {
         self.normal.extend(pixels.iter().map(|p| p.1.normal));
         self.shape_id.extend(pixels.iter().map(|p| p.1.shape_id));
         self.prim_id.extend(pixels.iter().map(|p| p.1.prim_id));
+        self.instance_id
+            .extend(pixels.iter().map(|p| p.1.instance_id));
     }
 
     pub fn index(&self, x: u32, y: u32) -> usize {
@@ -85,6 +94,7 @@ impl Film {
         self.normal[i] = aov.normal;
         self.shape_id[i] = aov.shape_id;
         self.prim_id[i] = aov.prim_id;
+        self.instance_id[i] = aov.instance_id;
     }
 
     pub fn pixel(&self, x: u32, y: u32) -> Vec3 {

@@ -152,6 +152,7 @@ pub fn render_with<I: Integrator>(
                                     normal: h.si.ns,
                                     shape_id,
                                     prim_id,
+                                    instance_id: h.hit.instance,
                                 };
                             }
                         }

@@ -20,6 +20,36 @@ pub struct Description {
     pub shapes: Vec<ShapeDesc>,
     #[serde(default, rename = "light", skip_serializing_if = "Vec::is_empty")]
     pub lights: Vec<LightDesc>,
+    /// Meshes declared once and placed by `[[instance]]` entries; not rendered by themselves.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub meshes: BTreeMap<String, MeshDesc>,
+    #[serde(default, rename = "instance", skip_serializing_if = "Vec::is_empty")]
+    pub instances: Vec<InstanceDesc>,
+}
+
+/// `[meshes.NAME]`: a mesh file loaded once, with its own acceleration structure.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MeshDesc {
+    /// A mesh file, relative to the scene file's folder.
+    pub file: String,
+    /// Overrides the file's own materials.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+}
+
+/// `[[instance]]`: placements of a declared mesh, by one `transform` or a file of `placements`
+/// (neither: the mesh where it is).
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct InstanceDesc {
+    /// The name of a `[meshes.NAME]` entry.
+    pub mesh: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+    /// A placement list (see `io::placements`), relative to the scene file's folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub placements: Option<String>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -398,6 +428,13 @@ impl Description {
                     crate::geometry::implicit::parse::substitute_scaled(f, 1.0 / s as f64)
                 });
             }
+        }
+        // Placement files are not rewritten: only inline transforms scale.
+        for t in d.instances.iter_mut().filter(|i| i.placements.is_none()) {
+            let t = t.transform.get_or_insert_with(Default::default);
+            t.translate = t.translate.map(sc);
+            let axes = t.scale.map_or([1.0; 3], ScaleDesc::axes);
+            t.scale = Some(ScaleDesc::Axes(sc(axes)));
         }
         for l in &mut d.lights {
             if let Some(p) = &mut l.position {

@@ -96,6 +96,8 @@ pub fn model_description(file: &str) -> Description {
         render: Default::default(),
         environment: Default::default(),
         materials: Default::default(),
+        meshes: Default::default(),
+        instances: vec![],
         shapes: vec![ShapeDesc {
             kind: "mesh".into(),
             file: Some(file.into()),

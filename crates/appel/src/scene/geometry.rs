@@ -1,5 +1,6 @@
 //! All the surfaces of a scene, flattened into one list of primitives for the acceleration structure.
 
+use super::instance::{Instance, Prototype};
 use crate::accel::{Hit, Primitives};
 use crate::geometry::{
     triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SurfaceInteraction,
@@ -38,6 +39,9 @@ pub enum ShapeKind {
     /// Index into [`Geometry::implicits`] (the compiled formula lives there, not in the enum).
     Implicit(u32),
     Torus(Torus),
+    /// One `[[instance]]` entry: its primitives are instances, named by their index into
+    /// [`Geometry::instances`].
+    Instances,
 }
 
 /// A primitive the acceleration structure sees: one sphere, one rectangle or one triangle of a mesh,
@@ -61,6 +65,10 @@ pub struct Geometry {
     /// Shapes without finite bounds (infinite planes), tested separately for every ray.
     pub unbounded: Vec<u32>,
     pub triangle_test: TriangleTest,
+    /// Meshes declared once (`[meshes.NAME]`), each with its own acceleration structure.
+    pub prototypes: Vec<Prototype>,
+    /// Placements of prototypes, numbered in file order: the `instanceid` AOV.
+    pub instances: Vec<Instance>,
 }
 
 /// A closest hit in the scene.
@@ -72,7 +80,14 @@ pub struct SceneHit {
     pub prim: u32,
     pub u: f32,
     pub v: f32,
+    /// The instance hit, or [`NO_INSTANCE`]. For an instance hit, `shape` and `prim` name the
+    /// surface and primitive inside its prototype's geometry.
+    pub instance: u32,
 }
+
+/// [`SceneHit::instance`] of a hit on a surface that is not instanced (and the `instanceid` AOV of
+/// such hits and of misses).
+pub const NO_INSTANCE: u32 = u32::MAX;
 
 impl Geometry {
     pub fn new(triangle_test: TriangleTest) -> Self {
@@ -102,6 +117,7 @@ impl Geometry {
                 self.prims
                     .extend((0..n).map(|index| PrimRef { shape: id, index }));
             }
+            ShapeKind::Instances => {}
         }
         self.shapes.push(Shape {
             kind,
@@ -114,15 +130,63 @@ impl Geometry {
         id
     }
 
-    /// The `shapeid` and `primid` a hit reports: its `[[shape]]` and its primitive's index in the
-    /// source file.
+    /// The `shapeid` and `primid` a hit reports: its `[[shape]]` (for an instance, its `[[instance]]`
+    /// entry) and its primitive's index in the source file.
     pub fn source_ids(&self, hit: &SceneHit) -> (u32, u32) {
+        if hit.instance != NO_INSTANCE {
+            let inner = self.prototype_of(hit.instance);
+            let (_, prim) = inner.geometry.source_ids(&SceneHit {
+                instance: NO_INSTANCE,
+                ..*hit
+            });
+            let instance = &self.instances[hit.instance as usize];
+            return (instance.source, instance.first_prim + prim);
+        }
         let src = &self.shapes[hit.shape as usize].source;
         let prim = match &src.prim_table {
             Some(table) => table[hit.prim as usize],
             None => src.first_prim + hit.prim,
         };
         (src.shape, prim)
+    }
+
+    /// The material of the surface hit (an index into the scene's materials).
+    pub fn material(&self, hit: &SceneHit) -> u32 {
+        let shapes = if hit.instance == NO_INSTANCE {
+            &self.shapes
+        } else {
+            &self.prototype_of(hit.instance).geometry.shapes
+        };
+        shapes[hit.shape as usize].material
+    }
+
+    fn prototype_of(&self, instance: u32) -> &Prototype {
+        &self.prototypes[self.instances[instance as usize].prototype as usize]
+    }
+
+    /// Adds the placements of one `[[instance]]` entry, which AOVs report as shape `source`;
+    /// returns its shape id.
+    pub fn push_instances(
+        &mut self,
+        source: u32,
+        instances: impl IntoIterator<Item = Instance>,
+    ) -> u32 {
+        let id = self.shapes.len() as u32;
+        let first = self.instances.len() as u32;
+        self.instances
+            .extend(instances.into_iter().map(|i| Instance { source, ..i }));
+        let last = self.instances.len() as u32;
+        self.prims
+            .extend((first..last).map(|index| PrimRef { shape: id, index }));
+        self.shapes.push(Shape {
+            kind: ShapeKind::Instances,
+            material: 0,
+            source: ShapeSource {
+                shape: source,
+                ..Default::default()
+            },
+        });
+        id
     }
 
     pub fn push_mesh(&mut self, mesh: TriangleMesh, material: u32) -> u32 {
@@ -144,8 +208,37 @@ impl Geometry {
         )
     }
 
+    /// Triangles stored: the scene's meshes and the prototypes', each counted once however often it
+    /// is instanced.
     pub fn triangle_count(&self) -> usize {
-        self.meshes.iter().map(|m| m.triangle_count()).sum()
+        self.meshes
+            .iter()
+            .map(|m| m.triangle_count())
+            .sum::<usize>()
+            + self
+                .prototypes
+                .iter()
+                .map(|p| p.geometry.triangle_count())
+                .sum::<usize>()
+    }
+
+    /// Triangles as rendered: each instance counts its prototype's triangles once more.
+    pub fn instanced_triangle_count(&self) -> u64 {
+        let per_prototype: Vec<u64> = self
+            .prototypes
+            .iter()
+            .map(|p| p.geometry.triangle_count() as u64)
+            .collect();
+        let instanced: u64 = self
+            .instances
+            .iter()
+            .map(|i| per_prototype[i.prototype as usize])
+            .sum();
+        self.meshes
+            .iter()
+            .map(|m| m.triangle_count() as u64)
+            .sum::<u64>()
+            + instanced
     }
 
     /// Bounds of everything bounded.
@@ -169,6 +262,10 @@ impl Geometry {
                 }
             }
             ShapeKind::Torus(t) => t.intersect(ray, t_max),
+            ShapeKind::Instances => {
+                let instance = &self.instances[index as usize];
+                self.prototypes[instance.prototype as usize].intersect(instance, ray, t_max)
+            }
         }
     }
 
@@ -185,6 +282,7 @@ impl Geometry {
                     prim: 0,
                     u: h.u,
                     v: h.v,
+                    instance: NO_INSTANCE,
                 });
             }
         }
@@ -200,12 +298,24 @@ impl Geometry {
     /// Turns an acceleration-structure hit into a scene hit.
     pub fn scene_hit(&self, hit: Hit) -> SceneHit {
         let r = self.prims[hit.prim as usize];
+        if let ShapeKind::Instances = self.shapes[r.shape as usize].kind {
+            let inner = self.prototype_of(r.index).geometry.prims[hit.sub as usize];
+            return SceneHit {
+                t: hit.t,
+                shape: inner.shape,
+                prim: inner.index,
+                u: hit.u,
+                v: hit.v,
+                instance: r.index,
+            };
+        }
         SceneHit {
             t: hit.t,
             shape: r.shape,
             prim: r.index,
             u: hit.u,
             v: hit.v,
+            instance: NO_INSTANCE,
         }
     }
 
@@ -217,10 +327,22 @@ impl Geometry {
     /// leave `uv` at zero unless `with_uv`.
     #[inline]
     pub fn interaction_with(&self, ray: &Ray, hit: &SceneHit, with_uv: bool) -> SurfaceInteraction {
+        if hit.instance != NO_INSTANCE {
+            let instance = &self.instances[hit.instance as usize];
+            let x = &instance.transform;
+            let inner = SceneHit {
+                instance: NO_INSTANCE,
+                ..*hit
+            };
+            let prototype = &self.prototypes[instance.prototype as usize].geometry;
+            let si = prototype.interaction_with(&x.ray_to_object(ray), &inner, with_uv);
+            return x.interaction_to_world(&si);
+        }
         let ph = PrimHit {
             t: hit.t,
             u: hit.u,
             v: hit.v,
+            sub: 0,
         };
         match &self.shapes[hit.shape as usize].kind {
             ShapeKind::Sphere(s) => s.interaction_with(ray, &ph, with_uv),
@@ -234,6 +356,7 @@ impl Geometry {
                 }
             }
             ShapeKind::Torus(t) => t.interaction(ray, &ph),
+            ShapeKind::Instances => unreachable!("instance hits are handled above"),
         }
     }
 }
@@ -257,6 +380,11 @@ impl Primitives for Geometry {
                 }
             }
             ShapeKind::Torus(t) => t.bounds(),
+            ShapeKind::Instances => {
+                let instance = &self.instances[r.index as usize];
+                let prototype = &self.prototypes[instance.prototype as usize];
+                instance.transform.bounds_to_world(prototype.bounds)
+            }
         }
     }
 

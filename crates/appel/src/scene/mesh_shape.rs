@@ -2,8 +2,10 @@
 //! shape names one.
 
 use super::description::{MaterialDesc, TransformDesc};
-use super::{Geometry, Material};
+use super::{Geometry, Instance, Material, Prototype};
+use crate::accel::{AccelKind, AccelOptions};
 use crate::error::{Error, Location, Result};
+use crate::geometry::InstanceTransform;
 use crate::io::{load_mesh, FileMaterial};
 use std::path::Path;
 
@@ -15,6 +17,8 @@ pub(super) fn add_mesh_file(
     path: &Path,
     transform: Option<&TransformDesc>,
     material: Option<u32>,
+    kind: AccelKind,
+    options: &AccelOptions,
 ) -> Result<()> {
     let mut loaded = load_mesh(path)?;
     if let Some(t) = transform {
@@ -22,7 +26,8 @@ pub(super) fn add_mesh_file(
         let finite = loaded
             .parts
             .iter()
-            .all(|p| p.mesh.positions.iter().all(|v| v.is_finite()));
+            .all(|p| p.mesh.positions.iter().all(|v| v.is_finite()))
+            && loaded.placements.iter().all(|p| p.to_world.is_finite());
         if !finite {
             return Err(Error::input(
                 Location::file(path),
@@ -34,15 +39,55 @@ pub(super) fn add_mesh_file(
     if material.is_none() {
         materials.extend(loaded.materials.iter().map(material_from_file));
     }
+    let part_material = |m: Option<u32>| material.unwrap_or_else(|| m.map_or(0, |m| first + m));
     let mut first_prim = 0;
     for part in loaded.parts {
-        let id = material.unwrap_or_else(|| part.material.map_or(0, |m| first + m));
+        let id = part_material(part.material);
         let count = part.mesh.triangle_count() as u32;
         let shape = geometry.push_mesh(part.mesh, id);
         let source = &mut geometry.shapes[shape as usize].source;
         source.first_prim = first_prim;
         source.prim_table = part.file_triangles;
         first_prim += count;
+    }
+    // Meshes the file places several times: one prototype each, one instance per placement.
+    let first_prototype = geometry.prototypes.len() as u32;
+    for parts in loaded.shared {
+        let mut g = Geometry::new(geometry.triangle_test);
+        let mut first_prim = 0;
+        for part in parts {
+            let count = part.mesh.triangle_count() as u32;
+            let shape = g.push_mesh(part.mesh, part_material(part.material));
+            g.shapes[shape as usize].source.first_prim = first_prim;
+            first_prim += count;
+        }
+        geometry.prototypes.push(Prototype::new(g, kind, options));
+    }
+    let mut instances = Vec::with_capacity(loaded.placements.len());
+    for p in &loaded.placements {
+        let Some(transform) = InstanceTransform::new(p.to_world) else {
+            return Err(Error::input(
+                Location::file(path),
+                "a node placing a shared mesh has a transform that cannot be inverted",
+            ));
+        };
+        let bounds = geometry.prototypes[(first_prototype + p.mesh) as usize].bounds;
+        let world = transform.bounds_to_world(bounds);
+        if !(world.min.is_finite() && world.max.is_finite()) {
+            return Err(Error::input(
+                Location::file(path),
+                "a node moves a shared mesh beyond the range of f32",
+            ));
+        }
+        instances.push(Instance {
+            transform,
+            prototype: first_prototype + p.mesh,
+            source: 0,
+            first_prim: p.first_triangle,
+        });
+    }
+    if !instances.is_empty() {
+        geometry.push_instances(0, instances);
     }
     Ok(())
 }

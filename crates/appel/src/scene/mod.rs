@@ -6,18 +6,25 @@ mod camera;
 pub mod description;
 mod frame;
 mod geometry;
+mod instance;
+mod instance_entries;
 mod light;
 mod material;
+mod memory;
 mod mesh_shape;
 pub mod parse;
+mod progress;
 pub mod validate;
 
 pub use camera::Camera;
 pub use description::Description;
 pub use frame::{frame_model, model_description};
-pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind, ShapeSource};
+pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE};
+pub use instance::{Instance, Prototype};
 pub use light::Light;
 pub use material::{Checker, Material};
+pub use memory::{estimate_memory, MemoryEstimate};
+pub use progress::{LoadStep, SceneOptions};
 
 use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
 use crate::error::{Error, Location, Result};
@@ -169,7 +176,20 @@ fn path_string(path: &[PathSeg]) -> String {
 impl Scene {
     /// Builds a scene from a validated description. `base_dir` resolves relative file names.
     pub fn new(d: &Description, base_dir: &Path) -> Result<Scene> {
+        Self::new_with(d, base_dir, SceneOptions::default())
+    }
+
+    /// [`Self::new`], reporting each file read and structure built, and stopping when cancelled.
+    pub fn new_with(d: &Description, base_dir: &Path, options: SceneOptions) -> Result<Scene> {
         let load_start = Instant::now();
+        let used_meshes = d
+            .meshes
+            .keys()
+            .filter(|name| d.instances.iter().any(|i| &i.mesh == *name))
+            .count() as u64;
+        let mesh_shapes = d.shapes.iter().filter(|s| s.file.is_some()).count() as u64;
+        let steps = progress::Steps::new(options, mesh_shapes + 2 * used_meshes + 1);
+        let skip_top_level = options.skip_top_level;
         let settings = RenderSettings {
             integrator: match d.render.integrator.as_str() {
                 "raycast" => IntegratorKind::Raycast,
@@ -196,6 +216,7 @@ impl Scene {
         let mut geometry = Geometry::new(triangle_test);
         for (index, s) in d.shapes.iter().enumerate() {
             let first_new_shape = geometry.shapes.len();
+            let first_new_instance = geometry.instances.len();
             let material = s
                 .material
                 .as_ref()
@@ -266,7 +287,10 @@ impl Scene {
                         &base_dir.join(file),
                         s.transform.as_ref(),
                         s.material.is_some().then_some(material),
+                        settings.accel,
+                        &settings.accel_options,
                     )?;
+                    steps.step(&format!("read {file}"))?;
                 }
                 other => return Err(Error::Invalid(format!("unknown shape type `{other}`"))),
             }
@@ -274,11 +298,38 @@ impl Scene {
             for shape in &mut geometry.shapes[first_new_shape..] {
                 shape.source.shape = index as u32;
             }
+            for instance in &mut geometry.instances[first_new_instance..] {
+                instance.source = index as u32;
+            }
         }
-        let load = load_start.elapsed();
+        let prototype_build = instance_entries::add_instances(
+            d,
+            base_dir,
+            &settings,
+            &mut geometry,
+            &mut materials,
+            |m| {
+                names
+                    .iter()
+                    .position(|n| *n == m)
+                    .map_or(0, |i| i as u32 + 1)
+            },
+            &steps,
+        )?;
+        let load = load_start.elapsed() - prototype_build;
+        steps.begin(&format!(
+            "building the top-level structure ({} primitives)",
+            geometry.prims.len()
+        ));
         let build_start = Instant::now();
-        let accel = Accel::build_with(settings.accel, &geometry, &settings.accel_options);
-        let build = build_start.elapsed();
+        let top_level = if skip_top_level {
+            AccelKind::Brute
+        } else {
+            settings.accel
+        };
+        let accel = Accel::build_with(top_level, &geometry, &settings.accel_options);
+        let build = build_start.elapsed() + prototype_build;
+        steps.step("built the top-level structure")?;
         Ok(Scene {
             camera: Camera::new(&d.camera),
             settings,
@@ -320,7 +371,7 @@ impl Scene {
     }
 
     pub fn material(&self, hit: &SceneHit) -> &Material {
-        &self.materials[self.geometry.shapes[hit.shape as usize].material as usize]
+        &self.materials[self.geometry.material(hit) as usize]
     }
 
     pub fn accel_stats(&self) -> AccelStats {

@@ -1,7 +1,7 @@
 //! Checks that a parsed [`Description`] makes sense, before anything is built from it. Each problem is
 //! reported with the path of the offending value, which the loader turns into a line and column.
 
-use super::description::{Description, ShapeDesc, Vec3f};
+use super::description::{Description, InstanceDesc, ShapeDesc, TransformDesc, Vec3f};
 use super::parse::PathSeg;
 use crate::accel::AccelKind;
 
@@ -143,6 +143,21 @@ pub fn validate(d: &Description) -> Result<(), Invalid> {
     for (i, s) in d.shapes.iter().enumerate() {
         c.at(key("shape"), |c| {
             c.at(PathSeg::Index(i), |c| shape(c, d, s))
+        })?;
+    }
+    for (name, m) in &d.meshes {
+        c.at(key("meshes"), |c| {
+            c.at(key(name), |c| {
+                if m.file.is_empty() {
+                    return c.fail("file", "`file` must name a mesh file");
+                }
+                material_name(c, d, m.material.as_deref())
+            })
+        })?;
+    }
+    for (i, inst) in d.instances.iter().enumerate() {
+        c.at(key("instance"), |c| {
+            c.at(PathSeg::Index(i), |c| instance(c, d, inst))
         })?;
     }
     for (i, l) in d.lights.iter().enumerate() {
@@ -297,24 +312,58 @@ fn render(c: &mut Checker, d: &Description) -> Check {
     Ok(())
 }
 
-fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
-    c.one_of("type", &s.kind, SHAPE_TYPES)?;
-    if let Some(m) = &s.material {
-        if !d.materials.contains_key(m) {
-            let known: Vec<&str> = d.materials.keys().map(|k| k.as_str()).collect();
+/// `name` must be a key of `names`; the message lists the keys.
+fn known_name<'a>(
+    c: &Checker,
+    k: &str,
+    what: &str,
+    name: &str,
+    mut names: impl Iterator<Item = &'a String>,
+) -> Check {
+    let known: Vec<&str> = names.by_ref().map(|k| k.as_str()).collect();
+    if known.contains(&name) {
+        return Ok(());
+    }
+    c.fail(
+        k,
+        format!(
+            "unknown {what} `{name}`; the scene defines: {}",
+            if known.is_empty() {
+                "none".to_string()
+            } else {
+                known.join(", ")
+            }
+        ),
+    )
+}
+
+fn material_name(c: &Checker, d: &Description, m: Option<&str>) -> Check {
+    match m {
+        Some(m) => known_name(c, "material", "material", m, d.materials.keys()),
+        None => Ok(()),
+    }
+}
+
+fn instance(c: &mut Checker, d: &Description, i: &InstanceDesc) -> Check {
+    known_name(c, "mesh", "mesh", &i.mesh, d.meshes.keys())?;
+    if let Some(t) = &i.transform {
+        if i.placements.is_some() {
             return c.fail(
-                "material",
-                format!(
-                    "unknown material `{m}`; the scene defines: {}",
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
-                ),
+                "placements",
+                "an instance takes `transform` or `placements`, not both",
             );
         }
+        c.at(key("transform"), |c| transform(c, t))?;
     }
+    if i.placements.as_deref() == Some("") {
+        return c.fail("placements", "`placements` must name a placement list file");
+    }
+    Ok(())
+}
+
+fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
+    c.one_of("type", &s.kind, SHAPE_TYPES)?;
+    material_name(c, d, s.material.as_deref())?;
     let present = [
         ("center", s.center.is_some()),
         ("radius", s.radius.is_some()),
@@ -405,34 +454,67 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         }
     }
     if let Some(t) = &s.transform {
-        c.at(key("transform"), |c| {
-            if let Some(tr) = t.translate {
-                c.finite("translate", &tr)?;
-            }
-            if let Some(r) = &t.rotate {
-                c.at(key("rotate"), |c| {
-                    c.non_zero("axis", r.axis)?;
-                    c.finite("degrees", &[r.degrees])
-                })?;
-            }
-            if let Some(sc) = t.scale {
-                let axes = sc.axes();
-                c.finite("scale", &axes)?;
-                if axes.contains(&0.0) {
-                    return c.fail(
-                        "scale",
-                        "`scale` must not be zero: it would flatten the mesh",
-                    );
-                }
-            }
-            Ok(())
-        })?;
+        c.at(key("transform"), |c| transform(c, t))?;
     }
     Ok(())
 }
 
-/// Checks that every mesh file the description names exists, relative to `base_dir`.
+fn transform(c: &mut Checker, t: &TransformDesc) -> Check {
+    if let Some(tr) = t.translate {
+        c.finite("translate", &tr)?;
+    }
+    if let Some(r) = &t.rotate {
+        c.at(key("rotate"), |c| {
+            c.non_zero("axis", r.axis)?;
+            c.finite("degrees", &[r.degrees])
+        })?;
+    }
+    if let Some(sc) = t.scale {
+        let axes = sc.axes();
+        c.finite("scale", &axes)?;
+        if axes.contains(&0.0) {
+            return c.fail(
+                "scale",
+                "`scale` must not be zero: it would flatten the mesh",
+            );
+        }
+    }
+    // Finite pieces can still make a matrix f32 cannot invert (a scale of 1e-30).
+    if crate::geometry::InstanceTransform::new(t.matrix()).is_none() {
+        return c.fail(
+            "",
+            "the transform is not invertible in single precision (a scale too small or too large)",
+        );
+    }
+    Ok(())
+}
+
+/// Checks that every mesh and placement file the description names exists, relative to `base_dir`.
 pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid> {
+    let exists = |f: &str, what: &str, path: Vec<PathSeg>| {
+        let p = base_dir.join(f);
+        if p.is_file() {
+            Ok(())
+        } else {
+            Err(Invalid {
+                path,
+                message: format!("the {what} `{}` does not exist", p.display()),
+            })
+        }
+    };
+    for (name, m) in &d.meshes {
+        exists(
+            &m.file,
+            "mesh file",
+            vec![key("meshes"), key(name), key("file")],
+        )?;
+    }
+    for (i, inst) in d.instances.iter().enumerate() {
+        if let Some(f) = &inst.placements {
+            let path = vec![key("instance"), PathSeg::Index(i), key("placements")];
+            exists(f, "placement list", path)?;
+        }
+    }
     for (i, s) in d.shapes.iter().enumerate() {
         if let Some(f) = &s.file {
             let p = base_dir.join(f);

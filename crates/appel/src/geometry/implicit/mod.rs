@@ -82,6 +82,7 @@ impl Implicit {
             t: t32,
             u: (t - t32 as f64) as f32,
             v: 0.0,
+            sub: 0,
         })
     }
 

@@ -144,7 +144,10 @@ pub fn finish(
         return watertight(ray, t_max, tri[0], tri[1], tri[2]);
     }
     let row = |k: usize| [v.r[k][lane], v.r[k + 1][lane], v.r[k + 2][lane]];
-    watertight_finish(row(0), row(3), row(6), e, t_max)
+    // The largest component of |dir| is |dir[kz]|, which the error bound needs (see
+    // `watertight_finish`).
+    let dz_abs = ray.dir.abs().max_element();
+    watertight_finish(row(0), row(3), row(6), e, t_max, dz_abs)
 }
 
 /// What the filter needs of a ray, computed once per ray: the watertight test's permutation (`kz`
