@@ -45,7 +45,7 @@ impl Brute {
         stats.rays += 1;
         for i in 0..self.count {
             stats.prim_tests += 1;
-            if prims.intersect(i, ray, t_max).is_some() {
+            if prims.occluded(i, ray, t_max) {
                 return true;
             }
         }

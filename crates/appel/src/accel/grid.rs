@@ -7,7 +7,7 @@
 //! form: `offsets[c]..offsets[c + 1]` is cell `c`'s range of the flat `items` list.
 
 use super::bvh::RayBox;
-use super::{AccelStats, Hit, Primitives, TraversalStats};
+use super::{test_primitive, AccelStats, Hit, Primitives, TraversalStats};
 use crate::math::{Aabb, Ray, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -254,7 +254,7 @@ impl Grid {
                 }
                 mail[slot] = p;
                 stats.prim_tests += 1;
-                if let Some(h) = prims.intersect(p as usize, ray, t_max) {
+                if let Some(h) = test_primitive::<P, ANY>(prims, p as usize, ray, t_max) {
                     best = Some(Hit::new(p as usize, h));
                     if ANY {
                         return best;

@@ -35,12 +35,40 @@ pub trait Primitives: Sync {
         let _ = (i, cell);
         true
     }
+    /// Whether primitive `i` has any hit with `t` in `(0, t_max)`; structures ask this in their
+    /// any-hit (shadow ray) queries. A primitive that holds a structure of its own (a mesh instance)
+    /// can stop at its first hit instead of finding the closest.
+    fn occluded(&self, i: usize, ray: &Ray, t_max: f32) -> bool {
+        self.intersect(i, ray, t_max).is_some()
+    }
     /// The vertices of primitive `i` if it is a triangle whose [`Primitives::intersect`] is exactly
     /// [`crate::geometry::triangle::watertight`] on them. Structures may then gather the vertices into SIMD
     /// blocks and test them without the call back; `None` (the default) always calls back.
     fn watertight_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
         let _ = i;
         None
+    }
+}
+
+/// A structure's test of one primitive: its closest hit, or in an any-hit query (`ANY`) a stand-in
+/// hit at `t_max` when [`Primitives::occluded`] says there is one (any-hit queries report only
+/// whether).
+#[inline(always)]
+pub(crate) fn test_primitive<P: Primitives, const ANY: bool>(
+    prims: &P,
+    i: usize,
+    ray: &Ray,
+    t_max: f32,
+) -> Option<PrimHit> {
+    if ANY {
+        prims.occluded(i, ray, t_max).then_some(PrimHit {
+            t: t_max,
+            u: 0.0,
+            v: 0.0,
+            sub: 0,
+        })
+    } else {
+        prims.intersect(i, ray, t_max)
     }
 }
 
@@ -185,6 +213,62 @@ mod tests {
         }
         assert_eq!(AccelKind::from_name("octree"), None);
         assert_eq!(AccelKind::default(), AccelKind::Bvh);
+    }
+
+    /// Counts which question each structure asks a primitive.
+    struct Asked<'a> {
+        inner: MeshPrimitives<'a>,
+        intersect: std::sync::atomic::AtomicUsize,
+        occluded: std::sync::atomic::AtomicUsize,
+    }
+
+    impl Primitives for Asked<'_> {
+        fn count(&self) -> usize {
+            self.inner.count()
+        }
+        fn bounds(&self, i: usize) -> Aabb {
+            self.inner.bounds(i)
+        }
+        fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+            self.intersect
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            self.inner.intersect(i, ray, t_max)
+        }
+        fn occluded(&self, i: usize, ray: &Ray, t_max: f32) -> bool {
+            self.occluded
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            self.inner.intersect(i, ray, t_max).is_some()
+        }
+    }
+
+    /// Shadow rays ask `occluded` (so an instance can stop at its first hit), never `intersect`.
+    #[test]
+    fn any_hit_queries_ask_primitives_for_any_hit() {
+        let m = testutil::soup(500, 2);
+        for &n in AccelKind::NAMES {
+            let p = Asked {
+                // Moller-Trumbore triangles are called back by every structure.
+                inner: MeshPrimitives {
+                    mesh: &m,
+                    test: crate::geometry::TriangleTest::Moller,
+                },
+                intersect: Default::default(),
+                occluded: Default::default(),
+            };
+            let a = Accel::build(AccelKind::from_name(n).unwrap(), &p);
+            let mut s = TraversalStats::default();
+            let blocked = testutil::rays(200, 4)
+                .iter()
+                .filter(|r| a.occluded(&p, r, f32::INFINITY, &mut s))
+                .count();
+            assert!(blocked > 20, "{n}: {blocked}");
+            assert_eq!(
+                p.intersect.load(std::sync::atomic::Ordering::Relaxed),
+                0,
+                "{n}"
+            );
+            assert!(p.occluded.load(std::sync::atomic::Ordering::Relaxed) >= blocked);
+        }
     }
 
     #[test]

@@ -366,6 +366,19 @@ impl Primitives for Geometry {
         self.prims.len()
     }
 
+    /// An instance answers a shadow ray with its own structure's any-hit query, which stops at the
+    /// first triangle it finds.
+    fn occluded(&self, i: usize, ray: &Ray, t_max: f32) -> bool {
+        let r = self.prims[i];
+        match &self.shapes[r.shape as usize].kind {
+            ShapeKind::Instances => {
+                let instance = &self.instances[r.index as usize];
+                self.prototypes[instance.prototype as usize].occluded(instance, ray, t_max)
+            }
+            _ => self.intersect_shape(r.shape, r.index, ray, t_max).is_some(),
+        }
+    }
+
     fn bounds(&self, i: usize) -> Aabb {
         let r = self.prims[i];
         match &self.shapes[r.shape as usize].kind {

@@ -63,6 +63,16 @@ impl Prototype {
             })
     }
 
+    /// Whether `ray` hits `instance` of this prototype in `(0, t_max)`: the structure's any-hit
+    /// query, which returns at the first hit it finds.
+    #[inline]
+    pub fn occluded(&self, instance: &Instance, ray: &Ray, t_max: f32) -> bool {
+        let local = instance.transform.ray_to_object(ray);
+        let mut stats = TraversalStats::default();
+        self.accel
+            .occluded(&self.geometry, &local, t_max, &mut stats)
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.geometry.count()
     }

@@ -2,7 +2,7 @@
 
 use super::node::BvhNode;
 use super::Bvh;
-use crate::accel::{Hit, Primitives, TraversalStats};
+use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
 use crate::math::{gamma, Ray};
 
 /// A ray prepared for box tests: reciprocal direction and the sign of each component (the sign bit,
@@ -107,7 +107,7 @@ impl Bvh {
                     let first = node.offset as usize;
                     for &p in &self.indices[first..first + node.count as usize] {
                         stats.prim_tests += 1;
-                        if let Some(h) = prims.intersect(p as usize, ray, t_max) {
+                        if let Some(h) = test_primitive::<P, ANY>(prims, p as usize, ray, t_max) {
                             best = Some(Hit::new(p as usize, h));
                             if ANY {
                                 return best;

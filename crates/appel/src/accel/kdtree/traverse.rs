@@ -6,7 +6,7 @@
 
 use super::{KdTree, STACK};
 use crate::accel::bvh::{far_scale, finish, LaneValues, RayBox, RayTri};
-use crate::accel::{Hit, Primitives, TraversalStats};
+use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
 use crate::math::{Ray, Vec3};
 use std::mem::MaybeUninit;
 
@@ -106,7 +106,7 @@ impl KdTree {
                     mail[slot] = p;
                     let h = match b.triangle(lane) {
                         Some(tri) => finish(&vals, lane, tri, ray, t_max),
-                        None => prims.intersect(p as usize, ray, t_max),
+                        None => test_primitive::<P, ANY>(prims, p as usize, ray, t_max),
                     };
                     if let Some(h) = h {
                         best = Some(Hit::new(p as usize, h));

@@ -10,7 +10,7 @@ use super::node::{self, Child, WideNode};
 use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
 use super::WideBvh;
 use crate::accel::bvh::far_scale;
-use crate::accel::{Hit, Primitives, TraversalStats};
+use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
 use crate::math::Ray;
 use std::mem::MaybeUninit;
 
@@ -295,7 +295,7 @@ impl<const W: usize> WideBvh<W> {
                     // Spheres, implicit surfaces...: no filter, every primitive called back.
                     for k in 0..count {
                         let id = blocks[k / 4].id[k % 4];
-                        if let Some(h) = prims.intersect(id as usize, ray, t_max) {
+                        if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, t_max) {
                             best = Some(Hit::new(id as usize, h));
                             if ANY {
                                 return best;
@@ -376,7 +376,7 @@ impl<const W: usize> WideBvh<W> {
                 let id = b.id[lane];
                 let h = match b.triangle(lane) {
                     Some(tri) => finish(&vals, bit, tri, ray, *t_max),
-                    None => prims.intersect(id as usize, ray, *t_max),
+                    None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max),
                 };
                 if let Some(h) = h {
                     *best = Some(Hit::new(id as usize, h));
