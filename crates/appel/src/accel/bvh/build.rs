@@ -56,9 +56,9 @@ pub struct BvhOptions {
     pub traversal_cost: f32,
     /// The cost of testing one block of primitives.
     pub intersect_cost: f32,
-    /// Primitives tested together (the SAH counts a leaf of `n` as `ceil(n / block)` tests): 4 for
-    /// the wide layouts, whose leaves test triangles four at a time; 0 means 4 when `width > 2` and
-    /// 1 otherwise.
+    /// Primitives tested together (the SAH counts a leaf of `n` as `ceil(n / block)` tests), a power
+    /// of two (others are rounded up): 4 for the wide layouts, whose leaves test triangles four at a
+    /// time; 0 means 4 when `width > 2` and 1 otherwise.
     pub block: usize,
     /// Ranges larger than this build their two children in parallel.
     pub parallel_threshold: usize,
@@ -90,30 +90,46 @@ const FORCE_MEDIAN_DEPTH: usize = 64;
 /// Ranges larger than this bin and bound their centroids in parallel chunks.
 const PARALLEL_SCAN: usize = 128 * 1024;
 
+/// `ceil(n / block)` by a shift: the SAH sweep asks it twice per candidate plane.
+#[derive(Clone, Copy)]
+pub(super) struct BlockCount {
+    add: u32,
+    shift: u32,
+}
+
+impl BlockCount {
+    pub fn new(o: &BvhOptions) -> Self {
+        let b = o.block_size() as u32;
+        Self {
+            add: b - 1,
+            shift: b.trailing_zeros(),
+        }
+    }
+
+    #[inline(always)]
+    pub fn of(self, n: u32) -> f32 {
+        ((n + self.add) >> self.shift) as f32
+    }
+}
+
 pub(super) struct Ctx {
     pub opts: BvhOptions,
 }
 
 impl BvhOptions {
-    /// The leaf block size in effect (see [`BvhOptions::block`]).
+    /// The leaf block size in effect (see [`BvhOptions::block`]), rounded up to a power of two.
     pub fn block_size(&self) -> usize {
         match self.block {
             0 if self.width > 2 => 4,
             0 => 1,
-            b => b,
+            b => b.next_power_of_two(),
         }
     }
 
     /// Blocks a leaf of `n` primitives takes, as the SAH counts them.
     #[inline(always)]
     pub(super) fn blocks(&self, n: u32) -> f32 {
-        let b = self.block_size() as u32;
-        // The common sizes by shift, not by a division in the SAH sweep's inner loop.
-        match b {
-            1 => n as f32,
-            4 => n.div_ceil(4) as f32,
-            _ => n.div_ceil(b) as f32,
-        }
+        BlockCount::new(self).of(n)
     }
 }
 
@@ -503,6 +519,7 @@ fn sah_bins<const B: usize>(
     // The best plane minimises `n_l A_l + n_r A_r`; the cost proper (divided by the node's area) is
     // formed once, for the winner.
     let area = bounds.area();
+    let blocks = BlockCount::new(o);
     let mut best: Option<(f32, usize, usize, Box4, Box4)> = None; // (weighted area, axis, last left bin, bounds)
     if area > 0.0 {
         for a in 0..3 {
@@ -525,8 +542,8 @@ fn sah_bins<const B: usize>(
                 if left.count == 0 || r.count == 0 {
                     continue;
                 }
-                let weighted =
-                    o.blocks(left.count) * left.bounds.area() + o.blocks(r.count) * r.bounds.area();
+                let weighted = blocks.of(left.count) * left.bounds.area()
+                    + blocks.of(r.count) * r.bounds.area();
                 if best.is_none_or(|b| weighted < b.0) {
                     best = Some((weighted, a, k, left.bounds, r.bounds));
                 }
@@ -534,7 +551,7 @@ fn sah_bins<const B: usize>(
         }
     }
     let max_leaf = o.max_leaf.clamp(1, 255);
-    let leaf_cost = o.intersect_cost * o.blocks(n as u32);
+    let leaf_cost = o.intersect_cost * blocks.of(n as u32);
     match best {
         Some((weighted, a, k, lb, rbounds))
             if !(n <= max_leaf
