@@ -387,6 +387,25 @@ mod tests {
         assert!(hits > 300, "{hits}");
     }
 
+    /// The traversal CPUs without AVX2 take: an 8-wide node's boxes tested as two SSE halves, and
+    /// one SSE triangle filter per block.
+    #[test]
+    fn the_sse_fallback_agrees_with_brute_force() {
+        let m = soup(3000, 12);
+        let p = prims(&m);
+        let bvh = Bvh::build(&p);
+        let Wide::W8(w) = &bvh.wide else {
+            panic!("not 8 wide")
+        };
+        let hits = agrees_with_brute(
+            &p,
+            &rays(500, 13),
+            |r, t, s| w.traverse_sized::<_, false, false>(&p, r, t, s),
+            |r, t, s| w.traverse_sized::<_, true, false>(&p, r, t, s).is_some(),
+        );
+        assert!(hits > 200, "{hits}");
+    }
+
     #[test]
     fn wide_stats_count_nodes_blocks_and_tests() {
         let m = soup(2000, 9);

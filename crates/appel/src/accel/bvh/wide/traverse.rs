@@ -84,14 +84,14 @@ fn slabs<const W: usize, const AVX: bool>(
     #[cfg(not(target_arch = "x86_64"))]
     {
         let mut mask = 0;
-        for lane in 0..W {
+        for (lane, d) in dist.iter_mut().enumerate() {
             let mut t0 = 0.0f32;
             let mut t1 = t_cull;
             for a in 0..3 {
                 t0 = t0.max((n.bounds[r.near[a]][lane] - r.o[a]) * r.inv[a]);
                 t1 = t1.min((n.bounds[r.far[a]][lane] - r.o[a]) * r.inv[a] * r.far_scale);
             }
-            dist[lane] = t0;
+            *d = t0;
             mask |= ((t0 <= t1) as u32) << lane;
         }
         mask
@@ -191,7 +191,7 @@ impl<const W: usize> WideBvh<W> {
 
     /// Picks a stack just large enough for the tree's depth.
     #[inline(always)]
-    fn traverse_sized<P: Primitives, const ANY: bool, const AVX: bool>(
+    pub(super) fn traverse_sized<P: Primitives, const ANY: bool, const AVX: bool>(
         &self,
         prims: &P,
         ray: &Ray,
@@ -349,18 +349,18 @@ impl<const W: usize> WideBvh<W> {
         let mut at = 0;
         while at < blocks.len() {
             // Two blocks per AVX filter where the leaf has them.
+            #[cfg(target_arch = "x86_64")]
             let (mut m, step) = if AVX && at + 1 < blocks.len() {
-                #[cfg(target_arch = "x86_64")]
                 // SAFETY: `AVX` is true only inside `traverse_avx2`.
                 let m = unsafe {
                     rt.candidates_pair_avx2(&blocks[at], &blocks[at + 1], *t_max, &mut vals)
                 };
-                #[cfg(not(target_arch = "x86_64"))]
-                let m = unreachable!("AVX traversal on a target without it");
                 (m, 2)
             } else {
                 (rt.candidates(&blocks[at], *t_max, &mut vals), 1)
             };
+            #[cfg(not(target_arch = "x86_64"))]
+            let (mut m, step) = (rt.candidates(&blocks[at], *t_max, &mut vals), 1);
             // The last block's unused lanes repeat lane 0: skip them (a called-back
             // primitive there would be tested twice).
             let lanes = count - 4 * at;
