@@ -25,6 +25,8 @@ pub struct WideBvh<const W: usize> {
     blocks: Vec<TriBlock>,
     /// Edges from the root to the deepest leaf.
     depth: usize,
+    /// The tree is one leaf (a scene of a few primitives): traversal tests it without a box test.
+    root_leaf: Option<node::Child>,
 }
 
 /// A leaf's primitives before their vertices are gathered: a range of the binary tree's index array.
@@ -97,10 +99,16 @@ impl<const W: usize> WideBvh<W> {
         for (l, _) in c.leaves.iter().zip(no_triangles).filter(|(_, none)| *none) {
             c.nodes[l.slot.0 as usize].child[l.slot.1 as usize] |= node::NO_TRIANGLES;
         }
+        let root = c.nodes.first();
+        let root_leaf = root
+            .filter(|r| c.nodes.len() == 1 && r.child[1..].iter().all(|&x| x == node::EMPTY))
+            .map(|r| r.child[0])
+            .filter(|&x| node::is_leaf(x));
         Self {
             nodes: c.nodes,
             blocks,
             depth: c.depth,
+            root_leaf,
         }
     }
 
@@ -404,6 +412,41 @@ mod tests {
             |r, t, s| w.traverse_sized::<_, true, false>(&p, r, t, s).is_some(),
         );
         assert!(hits > 200, "{hits}");
+    }
+
+    /// A tree of one leaf is tested without a node visit, and answers like brute force.
+    #[test]
+    fn a_single_leaf_tree_skips_the_node_test() {
+        let m = soup(3, 21);
+        let p = prims(&m);
+        let bvh = Bvh::build(&p);
+        let Wide::W8(w) = &bvh.wide else {
+            panic!("not 8 wide")
+        };
+        assert!(w.root_leaf.is_some());
+        // Random rays, and rays from far away aimed at each triangle's centroid.
+        let aimed = (0..3).flat_map(|i| {
+            let c = m.vertices(i).iter().copied().sum::<Vec3>() / 3.0;
+            [Vec3::new(9.0, 7.0, -8.0), Vec3::new(-6.0, -9.0, 5.0)].map(|o| Ray::new(o, c - o))
+        });
+        let all: Vec<Ray> = rays(500, 22).into_iter().chain(aimed).collect();
+        let hits = agrees_with_brute(
+            &p,
+            &all,
+            |r, t, s| bvh.intersect(&p, r, t, s),
+            |r, t, s| bvh.occluded(&p, r, t, s),
+        );
+        assert!(hits >= 6, "{hits}");
+        let mut s = crate::accel::TraversalStats::default();
+        for r in rays(50, 23) {
+            bvh.intersect(&p, &r, f32::INFINITY, &mut s);
+        }
+        assert_eq!((s.rays, s.nodes_visited, s.prim_tests), (50, 0, 150));
+        let big = Bvh::build(&prims(&soup(300, 1)));
+        let Wide::W8(w) = &big.wide else {
+            panic!("not 8 wide")
+        };
+        assert!(w.root_leaf.is_none());
     }
 
     #[test]

@@ -169,6 +169,9 @@ impl<const W: usize> WideBvh<W> {
         if self.nodes.is_empty() {
             return None;
         }
+        if let Some(leaf) = self.root_leaf {
+            return self.traverse_root_leaf::<P, ANY>(leaf, prims, ray, t_max, stats);
+        }
         #[cfg(target_arch = "x86_64")]
         if W == 8 && has_avx2() {
             // SAFETY: the CPU has AVX2.
@@ -187,6 +190,41 @@ impl<const W: usize> WideBvh<W> {
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
         self.traverse_sized::<P, ANY, true>(prims, ray, t_max, stats)
+    }
+
+    /// A tree that is a single leaf: its primitives tested directly, without the set-up of a
+    /// node traversal, which costs more than a handful of primitive tests (Whitted's scene).
+    #[inline(never)]
+    fn traverse_root_leaf<P: Primitives, const ANY: bool>(
+        &self,
+        leaf: Child,
+        prims: &P,
+        ray: &Ray,
+        mut t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        let (first, count) = node::leaf_range(leaf);
+        stats.prim_tests += count as u64;
+        let blocks = &self.blocks[first..first + count.div_ceil(4)];
+        let mut best = None;
+        if leaf & node::NO_TRIANGLES != 0 {
+            for k in 0..count {
+                let id = blocks[k / 4].id[k % 4];
+                if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, t_max) {
+                    best = Some(Hit::new(id as usize, h));
+                    if ANY {
+                        return best;
+                    }
+                    t_max = h.t;
+                }
+            }
+        } else {
+            let rt = RayTri::new(ray);
+            self.leaf_blocks::<P, ANY, false>(
+                blocks, count, &rt, prims, ray, &mut t_max, &mut best,
+            );
+        }
+        best
     }
 
     /// Picks a stack just large enough for the tree's depth.
