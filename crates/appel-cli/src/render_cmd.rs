@@ -125,11 +125,10 @@ pub fn run(args: RenderArgs) -> Result<()> {
         let s = scene.accel_stats();
         let layout = match &scene.accel {
             appel::accel::Accel::Bvh(b) => format!(
-                " ({}-wide, {:?} splits)",
+                " ({}-wide, {} splits)",
                 b.width(),
-                scene.settings.accel_options.bvh.split
-            )
-            .to_lowercase(),
+                scene.settings.accel_options.bvh.split.name()
+            ),
             _ => String::new(),
         };
         eprintln!(

@@ -29,6 +29,14 @@ pub enum BvhSplit {
 impl BvhSplit {
     pub const NAMES: &'static [&'static str] = &["sah", "midpoint", "median"];
 
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Sah => "sah",
+            Self::Midpoint => "midpoint",
+            Self::Median => "median",
+        }
+    }
+
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "sah" => Some(Self::Sah),
@@ -92,7 +100,7 @@ const PARALLEL_SCAN: usize = 128 * 1024;
 
 /// `ceil(n / block)` by a shift: the SAH sweep asks it twice per candidate plane.
 #[derive(Clone, Copy)]
-pub(super) struct BlockCount {
+pub(crate) struct BlockCount {
     add: u32,
     shift: u32,
 }
@@ -124,12 +132,6 @@ impl BvhOptions {
             0 => 1,
             b => b.next_power_of_two(),
         }
-    }
-
-    /// Blocks a leaf of `n` primitives takes, as the SAH counts them.
-    #[inline(always)]
-    pub(super) fn blocks(&self, n: u32) -> f32 {
-        BlockCount::new(self).of(n)
     }
 }
 

@@ -116,6 +116,7 @@ impl Bvh {
     /// Walks the tree once for depth, node counts and SAH cost (the expected cost of a random ray
     /// hitting the root, MacDonald & Booth 1990).
     fn measure(&mut self, o: &BvhOptions) {
+        let blocks = build::BlockCount::new(o);
         let mut interior = 0;
         let mut leaves = 0;
         let mut depth = 0;
@@ -134,7 +135,7 @@ impl Bvh {
                 };
                 if n.is_leaf() {
                     leaves += 1;
-                    cost += rel * o.intersect_cost as f64 * o.blocks(n.count as u32) as f64;
+                    cost += rel * o.intersect_cost as f64 * blocks.of(n.count as u32) as f64;
                 } else {
                     interior += 1;
                     cost += rel * o.traversal_cost as f64;

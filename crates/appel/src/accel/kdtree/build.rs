@@ -32,11 +32,7 @@ impl<P: Primitives> Builder<'_, P> {
     fn make_leaf(&mut self, node: Aabb, ids: &[u32], depth: usize) {
         let first = self.blocks.len() as u32;
         for chunk in ids.chunks(4) {
-            let lanes: Vec<(u32, _)> = chunk
-                .iter()
-                .map(|&id| (id, self.prims.watertight_triangle(id as usize)))
-                .collect();
-            self.blocks.push(TriBlock::new(&lanes));
+            self.blocks.push(TriBlock::gather(self.prims, chunk));
         }
         self.refs += ids.len();
         self.nodes.push(KdNode::leaf(first, ids.len() as u32));

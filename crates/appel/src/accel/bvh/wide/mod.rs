@@ -86,12 +86,8 @@ impl<const W: usize> WideBvh<W> {
                 let ids = &indices[l.first_index as usize..][..l.count as usize];
                 let mut any_triangle = false;
                 for (chunk, block) in ids.chunks(4).zip(run.iter_mut()) {
-                    let lanes: Vec<(u32, _)> = chunk
-                        .iter()
-                        .map(|&id| (id, prims.watertight_triangle(id as usize)))
-                        .collect();
-                    any_triangle |= lanes.iter().any(|(_, t)| t.is_some());
-                    *block = TriBlock::new(&lanes);
+                    *block = TriBlock::gather(prims, chunk);
+                    any_triangle |= block.has_triangle();
                 }
                 !any_triangle
             })

@@ -203,28 +203,45 @@ impl<const W: usize> WideBvh<W> {
         mut t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
+        let mut best = None;
+        self.leaf::<P, ANY, false>(leaf, &mut None, prims, ray, &mut t_max, &mut best, stats);
+        best
+    }
+
+    /// Tests one leaf, narrowing `t_max` and setting `best` at each nearer hit (with `ANY`,
+    /// stopping at the first). `rt` is the triangle filter's per-ray set-up, made at the first
+    /// leaf that needs it.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn leaf<P: Primitives, const ANY: bool, const AVX: bool>(
+        &self,
+        leaf: Child,
+        rt: &mut Option<RayTri>,
+        prims: &P,
+        ray: &Ray,
+        t_max: &mut f32,
+        best: &mut Option<Hit>,
+        stats: &mut TraversalStats,
+    ) {
         let (first, count) = node::leaf_range(leaf);
         stats.prim_tests += count as u64;
         let blocks = &self.blocks[first..first + count.div_ceil(4)];
-        let mut best = None;
-        if leaf & node::NO_TRIANGLES != 0 {
-            for k in 0..count {
-                let id = blocks[k / 4].id[k % 4];
-                if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, t_max) {
-                    best = Some(Hit::new(id as usize, h));
-                    if ANY {
-                        return best;
-                    }
-                    t_max = h.t;
-                }
-            }
-        } else {
-            let rt = RayTri::new(ray);
-            self.leaf_blocks::<P, ANY, false>(
-                blocks, count, &rt, prims, ray, &mut t_max, &mut best,
-            );
+        if leaf & node::NO_TRIANGLES == 0 {
+            let rt = rt.get_or_insert_with(|| RayTri::new(ray));
+            self.leaf_blocks::<P, ANY, AVX>(blocks, count, rt, prims, ray, t_max, best);
+            return;
         }
-        best
+        // Spheres, implicit surfaces, instances: no filter, every primitive called back.
+        for k in 0..count {
+            let id = blocks[k / 4].id[k % 4];
+            if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, *t_max) {
+                *best = Some(Hit::new(id as usize, h));
+                if ANY {
+                    return;
+                }
+                *t_max = h.t;
+            }
+        }
     }
 
     /// Picks a stack just large enough for the tree's depth.
@@ -328,32 +345,11 @@ impl<const W: usize> WideBvh<W> {
                     continue;
                 }
             } else {
-                let (first, count) = node::leaf_range(cur);
-                stats.prim_tests += count as u64;
-                let blocks = &self.blocks[first..first + count.div_ceil(4)];
-                if cur & node::NO_TRIANGLES != 0 {
-                    // Spheres, implicit surfaces...: no filter, every primitive called back.
-                    for k in 0..count {
-                        let id = blocks[k / 4].id[k % 4];
-                        if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, t_max) {
-                            best = Some(Hit::new(id as usize, h));
-                            if ANY {
-                                return best;
-                            }
-                            t_max = h.t;
-                            t_cull = t_max * far;
-                        }
-                    }
-                } else {
-                    let rt = rt.get_or_insert_with(|| RayTri::new(ray));
-                    self.leaf_blocks::<P, ANY, AVX>(
-                        blocks, count, rt, prims, ray, &mut t_max, &mut best,
-                    );
-                    if ANY && best.is_some() {
-                        return best;
-                    }
-                    t_cull = t_max * far;
+                self.leaf::<P, ANY, AVX>(cur, &mut rt, prims, ray, &mut t_max, &mut best, stats);
+                if ANY && best.is_some() {
+                    return best;
                 }
+                t_cull = t_max * far;
             }
             // Pop the nearest waiting child that can still hold a nearer hit.
             loop {

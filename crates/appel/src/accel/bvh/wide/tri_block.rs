@@ -10,6 +10,7 @@
 
 #[cfg(target_arch = "x86_64")]
 use super::simd;
+use crate::accel::Primitives;
 use crate::geometry::triangle::{watertight, watertight_finish};
 use crate::geometry::PrimHit;
 use crate::math::{Ray, Vec3};
@@ -47,6 +48,21 @@ impl TriBlock {
             }
         }
         b
+    }
+
+    /// The block of up to four primitives `ids`, asking `prims` for their vertices (no allocation:
+    /// builders call this once per block of millions).
+    pub fn gather<P: Primitives>(prims: &P, ids: &[u32]) -> Self {
+        let mut lanes = [(0u32, None); 4];
+        for (lane, &id) in lanes.iter_mut().zip(ids) {
+            *lane = (id, prims.watertight_triangle(id as usize));
+        }
+        Self::new(&lanes[..ids.len()])
+    }
+
+    /// Whether any lane holds a triangle (rather than a called-back primitive).
+    pub fn has_triangle(&self) -> bool {
+        self.v[0].iter().any(|x| !x.is_nan())
     }
 
     /// The triangle in `lane`, or `None` for a called-back primitive.
