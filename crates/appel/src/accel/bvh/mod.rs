@@ -10,7 +10,7 @@ mod wide;
 pub use build::{BvhOptions, BvhSplit};
 pub use node::BvhNode;
 pub(crate) use traverse::{far_scale, RayBox};
-pub(crate) use wide::{finish, LaneValues, RayTri};
+pub(crate) use wide::{test_blocks, RayTri};
 pub use wide::{TriBlock, WideBvh, WideNode};
 
 use super::{AccelStats, Hit, Primitives, TraversalStats};

@@ -10,15 +10,19 @@
 //! gathered into the BVH's SIMD blocks of four (`TriBlock`); traversal filters a block at once and
 //! passes the survivors through a small per-ray mailbox, so a primitive copied into several leaves
 //! along a ray is tested once. Build memory is the primitive bounds plus one index list per node on
-//! the current recursion path. Nodes are 8 bytes (pbrt's `KdAccelNode`, `node.rs`).
+//! the current recursion path. The builder makes 8-byte binary nodes (pbrt's `KdAccelNode`,
+//! `node.rs`), which are then collapsed three levels at a time into 128-byte nodes of seven planes
+//! and eight cells (`wide.rs`) that traversal tests in one 8-lane step.
 
 mod build;
 mod node;
 #[cfg(test)]
 mod tests;
 mod traverse;
+mod wide;
 
 pub use node::KdNode;
+pub use wide::KdNode8;
 
 use super::bvh::TriBlock;
 use super::{AccelStats, Hit, Primitives, TraversalStats};
@@ -66,12 +70,21 @@ const EXACT_MAX: usize = 1024;
 /// Smallest empty slab, as a fraction of the node's extent, that earns the empty-space bonus.
 const EMPTY_MIN: f32 = 0.125;
 const STACK: usize = 64;
+/// Cells a traversal may have waiting: a three-level node pushes at most seven, and the binary depth
+/// limit (`STACK - 1`) allows `STACK / 3 + 1` such nodes on a path.
+const WIDE_STACK: usize = (STACK / 3 + 1) * 7 + 1;
 const PAR_MIN: usize = 1 << 15;
 
 #[derive(Clone, Debug, Default)]
 pub struct KdTree {
     bounds: Aabb,
-    nodes: Vec<KdNode>,
+    /// Three levels of the binary tree per node (`wide.rs`); the binary nodes are dropped once
+    /// collapsed.
+    nodes: Vec<KdNode8>,
+    /// The root's cell; `None` for a tree without primitives.
+    root: Option<wide::Cell>,
+    /// Nodes of the binary tree (interior and leaves), as built.
+    binary_nodes: usize,
     /// Leaf triangles in SIMD blocks of four; a leaf's blocks are consecutive.
     blocks: Vec<TriBlock>,
     /// Leaf references: each primitive counted once per leaf that holds it.
@@ -128,10 +141,12 @@ impl KdTree {
             par_min,
         };
         b.build(root, ids, max_depth, 0, 0);
+        let mut nodes = Vec::new();
+        tree.root = wide::collapse(&b.nodes, &mut nodes);
         tree.stats = AccelStats {
             name: "kdtree",
             primitives: n,
-            bytes: b.nodes.len() * std::mem::size_of::<KdNode>()
+            bytes: nodes.len() * std::mem::size_of::<KdNode8>()
                 + b.blocks.len() * std::mem::size_of::<TriBlock>(),
             nodes: b.nodes.len() - b.leaves,
             leaves: b.leaves,
@@ -139,7 +154,8 @@ impl KdTree {
             sah_cost: Some(b.sah),
             ..Default::default()
         };
-        tree.nodes = b.nodes;
+        tree.binary_nodes = b.nodes.len();
+        tree.nodes = nodes;
         tree.blocks = b.blocks;
         tree.refs = b.refs;
         tree

@@ -31,7 +31,14 @@ fn agrees_with_brute_force() {
         let s = kd.stats();
         let max_depth = (8.0 + 1.3 * 3000f64.log2()).round() as usize;
         assert!(s.depth <= max_depth, "{}", s.depth);
-        assert_eq!(s.nodes + s.leaves, kd.nodes.len());
+        assert_eq!(s.nodes + s.leaves, kd.binary_nodes);
+        // Three binary levels per node: at least a third fewer nodes than interior ones.
+        assert!(
+            3 * kd.nodes.len() <= s.nodes + 2,
+            "{} of {}",
+            kd.nodes.len(),
+            s.nodes
+        );
     }
 }
 
@@ -40,7 +47,8 @@ fn empty_single_and_coincident_inputs() {
     check(&mesh(vec![]), KdOptions::default());
     let t = [Vec3::ZERO, Vec3::X, Vec3::Y];
     let (one, _) = check(&mesh(vec![t]), KdOptions::default());
-    assert_eq!(one.nodes.len(), 1);
+    assert_eq!(one.binary_nodes, 1);
+    assert!(one.nodes.is_empty(), "a one-leaf tree needs no node");
     let (same, _) = check(&mesh(vec![t; 300]), KdOptions::default());
     // Splitting coincident primitives duplicates them all: the tree must stay small.
     assert!(same.refs <= 300 * 4, "{}", same.refs);
@@ -108,7 +116,7 @@ fn parallel_build_is_the_sequential_build() {
     let g = &target.geometry;
     let par = KdTree::build_par(g, KdOptions::default(), 2000);
     let seq = KdTree::build_par(g, KdOptions::default(), usize::MAX);
-    assert!(par.nodes.len() > 1000);
+    assert!(par.nodes.len() > 300);
     assert_eq!(par.nodes, seq.nodes);
     let ids = |k: &KdTree| k.blocks.iter().map(|b| b.id).collect::<Vec<_>>();
     assert_eq!(ids(&par), ids(&seq));
@@ -127,4 +135,75 @@ fn a_tessellated_surface_is_not_shattered() {
     let n = m.indices.len();
     let (kd, _) = check(&m, KdOptions::default());
     assert!(kd.refs <= 2 * n, "{} refs for {n}", kd.refs);
+}
+
+#[test]
+fn the_portable_node_test_agrees_with_brute_force() {
+    // Machines without AVX2 test the cells lane by lane; check that path here too, on a scene with
+    // axis-aligned rays and coplanar triangles as well as a random soup.
+    let mut m = soup(2000, 5);
+    m.positions.iter_mut().take(600).for_each(|p| p.z = 0.25);
+    let p = prims(&m);
+    let kd = KdTree::build(&p);
+    let mut rs = rays(300, 9);
+    for axis in [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Z] {
+        rs.push(Ray::new(Vec3::splat(0.1) - axis * 3.0, axis));
+        rs.push(Ray::new(Vec3::new(0.3, -0.2, 0.25) - axis * 3.0, axis));
+    }
+    let hits = agrees_with_brute(
+        &p,
+        &rs,
+        |r, t, s| kd.traverse_with::<_, false, false>(&p, r, t, s),
+        |r, t, s| kd.traverse_with::<_, true, false>(&p, r, t, s).is_some(),
+    );
+    assert!(hits > 100, "{hits}");
+}
+
+#[test]
+fn cells_follow_the_planes_of_three_levels() {
+    // A tree split at x = 0, then y = 0 on both sides, then z = 0 on one: a ray along +x at
+    // y, z < 0 crosses cell (below x, below y, below z) then (above x, below y).
+    use super::wide::{cells_portable, is_leaf, RayPlanes};
+    let mut tris = Vec::new();
+    for (x, y, z) in [
+        (-1.0, -1.0, -1.0),
+        (1.0, -1.0, -1.0),
+        (-1.0, 1.0, 1.0),
+        (1.0, 1.0, 1.0),
+    ] {
+        for k in 0..40 {
+            let c = Vec3::new(x, y, z) * (0.5 + 0.01 * k as f32);
+            tris.push([c, c + Vec3::X * 0.01, c + Vec3::Y * 0.01]);
+        }
+    }
+    let kd = KdTree::build(&prims(&mesh(tris)));
+    assert!(!kd.nodes.is_empty());
+    let n = &kd.nodes[0];
+    let r = Ray::new(Vec3::new(-3.0, -0.75, -0.75), Vec3::X);
+    let (mut near, mut far) = ([0.0; 8], [0.0; 8]);
+    let mask = cells_portable(n, &RayPlanes::new(&r), 0.0, 10.0, &mut near, &mut far);
+    assert!(mask != 0);
+    // The crossed cells are disjoint and tile the ray's span in order.
+    let mut spans: Vec<(f32, f32)> = (0..8)
+        .filter(|c| mask >> c & 1 == 1)
+        .map(|c| (near[c], far[c]))
+        .collect();
+    spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for w in spans.windows(2) {
+        assert!(w[0].1 <= w[1].0, "{spans:?}");
+    }
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        let (mut n2, mut f2) = ([0.0; 8], [0.0; 8]);
+        let planes = RayPlanes::new(&r);
+        // SAFETY: the CPU has AVX2.
+        let m2 = unsafe { super::wide::cells_avx2(n, &planes, 0.0, 10.0, &mut n2, &mut f2) };
+        assert_eq!(m2, mask);
+        for c in 0..8 {
+            if mask >> c & 1 == 1 {
+                assert_eq!((n2[c], f2[c]), (near[c], far[c]));
+            }
+        }
+    }
+    assert!(n.cell.iter().any(|&c| !is_leaf(c)) || n.occupied() != 0);
 }

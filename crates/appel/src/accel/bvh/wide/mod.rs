@@ -4,15 +4,17 @@
 //! adopts its children, then repeatedly opens the child with the largest surface area, until it has
 //! `W` children or only leaves remain.
 
+mod leaf;
 mod node;
 #[cfg(target_arch = "x86_64")]
 mod simd;
 mod traverse;
 mod tri_block;
 
+pub(crate) use leaf::test_blocks;
 pub use node::WideNode;
+pub(crate) use tri_block::RayTri;
 pub use tri_block::TriBlock;
-pub(crate) use tri_block::{finish, LaneValues, RayTri};
 
 use super::node::BvhNode;
 use crate::accel::Primitives;

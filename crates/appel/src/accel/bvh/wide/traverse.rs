@@ -6,8 +6,9 @@
 //! `W = 4`, the slab tests run four lanes at a time in SSE (part of every x86_64), or lane by lane
 //! on other targets.
 
+use super::leaf::test_blocks;
 use super::node::{self, Child, WideNode};
-use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
+use super::tri_block::RayTri;
 use super::WideBvh;
 use crate::accel::bvh::far_scale;
 use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
@@ -228,7 +229,7 @@ impl<const W: usize> WideBvh<W> {
         let blocks = &self.blocks[first..first + count.div_ceil(4)];
         if leaf & node::NO_TRIANGLES == 0 {
             let rt = rt.get_or_insert_with(|| RayTri::new(ray));
-            self.leaf_blocks::<P, ANY, AVX>(blocks, count, rt, prims, ray, t_max, best);
+            test_blocks::<P, ANY, AVX>(blocks, count, rt, prims, ray, t_max, best, |_| false);
             return;
         }
         // Spheres, implicit surfaces, instances: no filter, every primitive called back.
@@ -362,64 +363,6 @@ impl<const W: usize> WideBvh<W> {
                 if e.t <= t_cull {
                     cur = e.child;
                     break;
-                }
-            }
-        }
-    }
-
-    /// Tests a leaf's triangle blocks (and calls back its other primitives), narrowing `t_max` and
-    /// setting `best` at each nearer hit; with `ANY`, returns at the first.
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    fn leaf_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
-        &self,
-        blocks: &[TriBlock],
-        count: usize,
-        rt: &RayTri,
-        prims: &P,
-        ray: &Ray,
-        t_max: &mut f32,
-        best: &mut Option<Hit>,
-    ) {
-        let mut vals = LaneValues::default();
-        let mut at = 0;
-        while at < blocks.len() {
-            // Two blocks per AVX filter where the leaf has them.
-            #[cfg(target_arch = "x86_64")]
-            let (mut m, step) = if AVX && at + 1 < blocks.len() {
-                // SAFETY: `AVX` is true only inside `traverse_avx2`.
-                let m = unsafe {
-                    rt.candidates_pair_avx2(&blocks[at], &blocks[at + 1], *t_max, &mut vals)
-                };
-                (m, 2)
-            } else {
-                (rt.candidates(&blocks[at], *t_max, &mut vals), 1)
-            };
-            #[cfg(not(target_arch = "x86_64"))]
-            let (mut m, step) = (rt.candidates(&blocks[at], *t_max, &mut vals), 1);
-            // The last block's unused lanes repeat lane 0: skip them (a called-back
-            // primitive there would be tested twice).
-            let lanes = count - 4 * at;
-            if lanes < 8 {
-                m &= (1 << lanes) - 1;
-            }
-            let pair = &blocks[at..at + step];
-            at += step;
-            while m != 0 {
-                let bit = m.trailing_zeros() as usize;
-                m &= m - 1;
-                let (b, lane) = (&pair[bit / 4], bit % 4);
-                let id = b.id[lane];
-                let h = match b.triangle(lane) {
-                    Some(tri) => finish(&vals, bit, tri, ray, *t_max),
-                    None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max),
-                };
-                if let Some(h) = h {
-                    *best = Some(Hit::new(id as usize, h));
-                    if ANY {
-                        return;
-                    }
-                    *t_max = h.t;
                 }
             }
         }

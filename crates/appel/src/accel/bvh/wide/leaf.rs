@@ -1,0 +1,70 @@
+//! A leaf's triangle blocks against one ray: the part of the traversal the wide BVH and the
+//! kd-tree share.
+
+use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
+use crate::accel::{test_primitive, Hit, Primitives};
+use crate::math::Ray;
+
+/// Tests a leaf's triangle blocks (and calls back its other primitives), narrowing `t_max` and
+/// setting `best` at each nearer hit; with `ANY`, returns at the first. `count` is the leaf's
+/// number of primitives (the last block's unused lanes are skipped). `seen` is asked about each
+/// candidate that passed the filter before it is finished: a structure that stores a primitive in
+/// several leaves (the kd-tree) answers from its mailbox whether this ray already tested it.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
+    blocks: &[TriBlock],
+    count: usize,
+    rt: &RayTri,
+    prims: &P,
+    ray: &Ray,
+    t_max: &mut f32,
+    best: &mut Option<Hit>,
+    mut seen: impl FnMut(u32) -> bool,
+) {
+    let mut vals = LaneValues::default();
+    let mut at = 0;
+    while at < blocks.len() {
+        // Two blocks per AVX filter where the leaf has them.
+        #[cfg(target_arch = "x86_64")]
+        let (mut m, step) = if AVX && at + 1 < blocks.len() {
+            // SAFETY: callers pass `AVX` only from functions compiled for AVX2, entered after
+            // detecting it.
+            let m =
+                unsafe { rt.candidates_pair_avx2(&blocks[at], &blocks[at + 1], *t_max, &mut vals) };
+            (m, 2)
+        } else {
+            (rt.candidates(&blocks[at], *t_max, &mut vals), 1)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let (mut m, step) = (rt.candidates(&blocks[at], *t_max, &mut vals), 1);
+        // The last block's unused lanes repeat lane 0: skip them (a called-back
+        // primitive there would be tested twice).
+        let lanes = count - 4 * at;
+        if lanes < 8 {
+            m &= (1 << lanes) - 1;
+        }
+        let pair = &blocks[at..at + step];
+        at += step;
+        while m != 0 {
+            let bit = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let (b, lane) = (&pair[bit / 4], bit % 4);
+            let id = b.id[lane];
+            if seen(id) {
+                continue;
+            }
+            let h = match b.triangle(lane) {
+                Some(tri) => finish(&vals, bit, tri, ray, *t_max),
+                None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max),
+            };
+            if let Some(h) = h {
+                *best = Some(Hit::new(id as usize, h));
+                if ANY {
+                    return;
+                }
+                *t_max = h.t;
+            }
+        }
+    }
+}
