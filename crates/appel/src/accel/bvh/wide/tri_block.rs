@@ -109,16 +109,16 @@ macro_rules! filter {
         let any_zero = or(or(eq(e0, zero), eq(e1, zero)), eq(e2, zero));
         let any_neg = or(or(lt(e0, zero), lt(e1, zero)), lt(e2, zero));
         let any_pos = or(or(gt(e0, zero), gt(e1, zero)), gt(e2, zero));
-        let outside = and(any_neg, any_pos);
+        let inside = or(any_zero, not(and(any_neg, any_pos)));
+        // Most blocks a ray reaches miss it in every lane: stop before the distance test and
+        // the stores (cachegrind, the ogre's incoherent rays through the BVH: 6% fewer
+        // instructions, but 40% more mispredicted branches; the same wall-clock time there).
+        if mask(inside) == 0 {
+            return 0;
+        }
         let det = add(add(e0, e1), e2);
         let (z0, z1, z2) = (mul(z0, sz), mul(z1, sz), mul(z2, sz));
         let t_scaled = add(add(mul(e0, z0), mul(e1, z1)), mul(e2, z2));
-        for (r, v) in [x0, x1, x2, y0, y1, y2, z0, z1, z2, e0, e1, e2]
-            .into_iter()
-            .enumerate()
-        {
-            put(r, v);
-        }
         let loose = mul(mul(splat($t_max), det), splat(1.0 + 4.0 * f32::EPSILON));
         let reject_t = or(
             or(
@@ -127,7 +127,16 @@ macro_rules! filter {
             ),
             and(gt(det, zero), or(le(t_scaled, zero), gt(t_scaled, loose))),
         );
-        mask(or(any_zero, not(or(outside, reject_t))))
+        let kept = mask(and(inside, or(any_zero, not(reject_t))));
+        if kept != 0 {
+            for (r, v) in [x0, x1, x2, y0, y1, y2, z0, z1, z2, e0, e1, e2]
+                .into_iter()
+                .enumerate()
+            {
+                put(r, v);
+            }
+        }
+        kept
     }};
 }
 
