@@ -52,11 +52,14 @@ impl Default for KdOptions {
         // (a dependent load, the plane distance and an unpredictable branch) bounds the
         // traversal. With these the bunny's tree has 1.8 leaf references per triangle and leaves
         // of about 28, ended by cost (`max_prims` is one block); 80:1 gave 12 references per
-        // triangle and every path at the depth limit. See docs/performance.md.
+        // triangle and every path at the depth limit. With three-level nodes, a bonus of 0.2
+        // rather than pbrt's 0.5 was 3-4% faster on the bunny, the ogre and nefertiti (smaller
+        // costs gave deeper trees, more memory and slower traversal despite fewer instructions).
+        // See docs/performance.md.
         Self {
             traversal_cost: 1.0,
             intersect_cost: 0.1,
-            empty_bonus: 0.5,
+            empty_bonus: 0.2,
             max_prims: 4,
             max_depth: None,
             max_bad: 1,

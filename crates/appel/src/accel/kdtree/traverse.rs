@@ -93,7 +93,8 @@ impl KdTree {
         loop {
             stats.nodes_visited += 1;
             if !wide::is_leaf(cur) {
-                let n = &self.nodes[cur as usize];
+                // SAFETY: node cells hold indices of nodes the collapse wrote (`wide.rs`).
+                let n = unsafe { self.nodes.get_unchecked(cur as usize) };
                 // Cells starting beyond the closest hit cannot hold a nearer one.
                 let t_end = t1.min(t_max);
                 #[cfg(target_arch = "x86_64")]
@@ -111,7 +112,8 @@ impl KdTree {
                     // the next node's address is on the traversal's critical path. An exit cut at
                     // the best hit is as good as the cell's own for the early exit: any later hit
                     // is nearer than both.
-                    let c = mask.trailing_zeros() as usize;
+                    // `& 7`: the mask has eight bits; it lets the compiler drop the index checks.
+                    let c = (mask.trailing_zeros() & 7) as usize;
                     let mut next = Waiting {
                         cell: n.cell[c],
                         t0: near[c],
@@ -120,7 +122,7 @@ impl KdTree {
                     let base = sp;
                     let mut m = mask & (mask - 1);
                     while m != 0 {
-                        let c = m.trailing_zeros() as usize;
+                        let c = (m.trailing_zeros() & 7) as usize;
                         m &= m - 1;
                         let mut e = Waiting {
                             cell: n.cell[c],

@@ -228,14 +228,16 @@ impl RayTri {
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn candidates_sse(&self, b: &TriBlock, t_max: f32, out: &mut LaneValues) -> u32 {
-        // SAFETY: SSE and SSE2 are part of x86_64; the loads read 16-byte aligned `[f32; 4]` rows,
-        // the stores write the first four floats of `[f32; 8]` rows.
+        // SAFETY: SSE and SSE2 are part of x86_64; the loads read 16-byte aligned `[f32; 4]` rows
+        // (rows `3 k + axis` with `k` and `axis` below 3: `RayTri::k` holds axes), the stores
+        // write the first four floats of `[f32; 8]` rows.
         unsafe {
             use simd::sse::*;
             filter!(
                 self,
                 t_max,
-                |row: usize| load(b.v[row].as_ptr()),
+                // Unchecked: a checked index was a compare and branch per row.
+                |row: usize| load(b.v.get_unchecked(row).as_ptr()),
                 |r: usize, v| store(out.r[r].as_mut_ptr(), v)
             )
         }
@@ -259,7 +261,11 @@ impl RayTri {
         filter!(
             self,
             t_max,
-            |row: usize| load2(b.v[row].as_ptr(), a.v[row].as_ptr()),
+            // SAFETY (the indexing): `row < 9`, as in `candidates_sse`.
+            |row: usize| load2(
+                b.v.get_unchecked(row).as_ptr(),
+                a.v.get_unchecked(row).as_ptr()
+            ),
             |r: usize, v| store(out.r[r].as_mut_ptr(), v)
         )
     }
