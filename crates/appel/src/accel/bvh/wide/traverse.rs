@@ -299,11 +299,13 @@ impl<const W: usize> WideBvh<W> {
         let mut cur: Child = 0;
         loop {
             if !node::is_leaf(cur) {
-                let n = &self.nodes[cur as usize];
+                // SAFETY: child slots hold indices of nodes the collapse wrote.
+                let n = unsafe { self.nodes.get_unchecked(cur as usize) };
                 stats.nodes_visited += 1;
                 let mask = slabs::<W, AVX>(n, &rb, t_cull, &mut dist);
                 if mask != 0 {
-                    let first = mask.trailing_zeros() as usize;
+                    // `& (W - 1)`: the mask has `W` bits; it lets the compiler drop index checks.
+                    let first = mask.trailing_zeros() as usize & (W - 1);
                     if mask & (mask - 1) == 0 {
                         cur = n.child[first];
                         continue;
@@ -314,7 +316,7 @@ impl<const W: usize> WideBvh<W> {
                     let base = sp;
                     let mut m = mask;
                     while m != 0 {
-                        let lane = m.trailing_zeros() as usize;
+                        let lane = m.trailing_zeros() as usize & (W - 1);
                         m &= m - 1;
                         stack[sp] = MaybeUninit::new(Entry {
                             child: n.child[lane],
