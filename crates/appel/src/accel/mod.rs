@@ -21,6 +21,14 @@ pub use stats::{AccelStats, TraversalStats};
 use crate::geometry::PrimHit;
 use crate::math::{Aabb, Ray, Vec3};
 
+/// Whether the CPU has AVX2, detected once: the wide BVH and the kd-tree pick their traversal by it.
+#[cfg(target_arch = "x86_64")]
+pub(crate) fn has_avx2() -> bool {
+    use std::sync::OnceLock;
+    static AVX2: OnceLock<bool> = OnceLock::new();
+    *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2"))
+}
+
 /// What an acceleration structure is built over. Builders see only bounds; where they need a
 /// centroid they take the centre of the bounds (as Embree does).
 pub trait Primitives: Sync {

@@ -31,13 +31,6 @@ struct Waiting {
     t1: f32,
 }
 
-#[cfg(target_arch = "x86_64")]
-fn has_avx2() -> bool {
-    use std::sync::OnceLock;
-    static AVX2: OnceLock<bool> = OnceLock::new();
-    *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2"))
-}
-
 impl KdTree {
     #[inline(always)]
     pub(super) fn traverse<P: Primitives, const ANY: bool>(
@@ -48,7 +41,7 @@ impl KdTree {
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
         #[cfg(target_arch = "x86_64")]
-        if has_avx2() {
+        if crate::accel::has_avx2() {
             // SAFETY: the CPU has AVX2.
             return unsafe { self.traverse_avx2::<P, ANY>(prims, ray, t_max, stats) };
         }

@@ -145,13 +145,6 @@ unsafe fn slabs8_avx(bounds: *const f32, r: &RayBoxes, t_cull: f32, dist: *mut f
     mask(hit)
 }
 
-#[cfg(target_arch = "x86_64")]
-fn has_avx2() -> bool {
-    use std::sync::OnceLock;
-    static AVX2: OnceLock<bool> = OnceLock::new();
-    *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2"))
-}
-
 /// Stack entries a traversal may need: each level pushes at most `W` children and pops one.
 pub(super) fn stack_need<const W: usize>(depth: usize) -> usize {
     depth * (W - 1) + 1
@@ -174,7 +167,7 @@ impl<const W: usize> WideBvh<W> {
             return self.traverse_root_leaf::<P, ANY>(leaf, prims, ray, t_max, stats);
         }
         #[cfg(target_arch = "x86_64")]
-        if W == 8 && has_avx2() {
+        if W == 8 && crate::accel::has_avx2() {
             // SAFETY: the CPU has AVX2.
             return unsafe { self.traverse_avx2::<P, ANY>(prims, ray, t_max, stats) };
         }
