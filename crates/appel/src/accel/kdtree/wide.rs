@@ -39,7 +39,8 @@ fn leaf(first_block: u32, count: u32) -> Cell {
 /// plane 0, `b1` of plane `1 + b0` and `b2` of plane `3 + 2 b0 + b1` (0 below, 1 above). Where the
 /// binary tree ends above the third level, the missing planes are pass-through ones (axis 0 at
 /// `+inf`: everything is below), so the cell below them continues the leaf and those above are empty.
-#[repr(C, align(32))]
+/// Aligned to a cache line, so that a node is two lines, never three.
+#[repr(C, align(64))]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct KdNode8 {
     pub split: [f32; 8],
