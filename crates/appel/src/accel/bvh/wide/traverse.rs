@@ -232,8 +232,8 @@ impl<const W: usize> WideBvh<W> {
             return;
         }
         // Spheres, implicit surfaces, instances: no filter, every primitive called back.
-        for k in 0..count {
-            let id = blocks[k / 4].id[k % 4];
+        // The ids in order, without an index check per primitive.
+        for &id in blocks.iter().flat_map(|b| &b.id).take(count) {
             if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, *t_max) {
                 *best = Some(Hit::new(id as usize, h));
                 if ANY {
