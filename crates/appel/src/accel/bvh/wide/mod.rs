@@ -5,12 +5,14 @@
 //! `W` children or only leaves remain.
 
 mod node;
+mod packet;
 #[cfg(target_arch = "x86_64")]
 mod simd;
 mod traverse;
 mod tri_block;
 
 pub use node::WideNode;
+pub use packet::PACKET;
 pub use tri_block::TriBlock;
 pub(crate) use tri_block::{finish, LaneValues, RayTri};
 

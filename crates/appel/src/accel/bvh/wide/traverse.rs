@@ -145,7 +145,7 @@ unsafe fn slabs8_avx(bounds: *const f32, r: &RayBoxes, t_cull: f32, dist: *mut f
 }
 
 #[cfg(target_arch = "x86_64")]
-fn has_avx2() -> bool {
+pub(super) fn has_avx2() -> bool {
     use std::sync::OnceLock;
     static AVX2: OnceLock<bool> = OnceLock::new();
     *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2"))
@@ -213,7 +213,7 @@ impl<const W: usize> WideBvh<W> {
     /// leaf that needs it.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn leaf<P: Primitives, const ANY: bool, const AVX: bool>(
+    pub(super) fn leaf<P: Primitives, const ANY: bool, const AVX: bool>(
         &self,
         leaf: Child,
         rt: &mut Option<RayTri>,
