@@ -118,10 +118,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
         print_result(&r, args.json)?;
         if let (Some(one), Some(all)) = (r.packet8_mrays_1t, r.packet8_mrays) {
             notes.push(format!(
-                "{}: camera rays in packets of 8: {} / {} Mrays/s",
+                "{}: camera rays in packets of 8: {} / {} Mrays/s ({} of {} hits differ from single rays')",
                 r.accel,
                 rate(one),
-                rate(all)
+                rate(all),
+                r.packet8_mismatches.unwrap_or(0),
+                r.rays_primary
             ));
         }
     }

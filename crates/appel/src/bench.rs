@@ -104,6 +104,10 @@ pub struct BenchResult {
     pub packet8_mrays_1t: Option<f64>,
     /// Fraction of camera and incoherent rays on which a peer reports the same primitive as Appel's
     /// BVH (or a miss for both).
+    /// Camera rays whose packet hit is not the single-ray hit (BVH only; 0 unless two primitives
+    /// are hit at exactly the same distance).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packet8_mismatches: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub agreement: Option<f64>,
     pub threads: usize,
@@ -334,6 +338,20 @@ pub fn bench_accel(
                 / (crate::accel::bvh::PACKET * packets.len()).max(1) as f64
         })
     };
+    let mismatches = is_bvh.then(|| {
+        let mut stats = TraversalStats::default();
+        packets
+            .iter()
+            .map(|p| {
+                let mut out = [None; crate::accel::bvh::PACKET];
+                accel.intersect_packet(g, p, f32::INFINITY, &mut out, &mut stats);
+                p.iter()
+                    .zip(out)
+                    .filter(|(r, h)| accel.intersect(g, r, f32::INFINITY, &mut stats) != *h)
+                    .count()
+            })
+            .sum()
+    });
     let runs = trace_runs;
     BenchResult {
         accel: kind.name().to_string(),
@@ -351,6 +369,7 @@ pub fn bench_accel(
         shadow_mrays_1t: throughput(&one, &shadow, 1, runs, any),
         packet8_mrays: packet_rate(&all),
         packet8_mrays_1t: packet_rate(&one),
+        packet8_mismatches: mismatches,
         agreement: None,
         threads: all.current_num_threads(),
         rays_primary: primary.len(),

@@ -281,6 +281,20 @@ impl<const W: usize> WideBvh<W> {
         &self,
         prims: &P,
         ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        self.traverse_from::<P, ANY, AVX, N>(0, prims, ray, t_max, stats)
+    }
+
+    /// The traversal of the subtree under interior node `start` (the root is node 0): packets
+    /// hand a lone remaining ray to it.
+    #[inline(always)]
+    pub(super) fn traverse_from<P: Primitives, const ANY: bool, const AVX: bool, const N: usize>(
+        &self,
+        start: Child,
+        prims: &P,
+        ray: &Ray,
         mut t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
@@ -295,7 +309,7 @@ impl<const W: usize> WideBvh<W> {
         let mut sp = 0usize;
         let mut best = None;
         let mut dist = [0.0f32; W];
-        let mut cur: Child = 0;
+        let mut cur: Child = start;
         loop {
             if !node::is_leaf(cur) {
                 let n = &self.nodes[cur as usize];
