@@ -175,6 +175,11 @@ impl Accel {
         }
     }
 
+    /// Whether [`Self::intersect_packet`] traces packets together (rather than ray by ray).
+    pub fn has_packets(&self) -> bool {
+        matches!(self, Accel::Bvh(b) if b.has_packets())
+    }
+
     /// Closest hits of up to [`bvh::PACKET`] rays, `out[i]` for `rays[i]`: the hits of
     /// [`Self::intersect`] on each ray. The 8-wide BVH traverses coherent packets together; other
     /// structures go ray by ray.

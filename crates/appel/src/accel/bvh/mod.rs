@@ -173,6 +173,12 @@ impl Bvh {
         }
     }
 
+    /// Whether [`Self::intersect_packet`] traces packets together: the 8-wide layout of more than
+    /// one leaf, on a CPU with AVX2.
+    pub fn has_packets(&self) -> bool {
+        matches!(&self.wide, Wide::W8(w) if w.has_packets())
+    }
+
     /// Closest hits of up to [`PACKET`] rays (`out[i]` for `rays[i]`), the answers of
     /// [`Self::intersect`] on each: the 8-wide tree traverses coherent packets together (see
     /// `wide/packet.rs`), other layouts go ray by ray.

@@ -38,6 +38,20 @@ const STACK: usize = 128;
 const SHARED: u32 = 3;
 
 impl WideBvh<8> {
+    /// Whether packets can take the packet path at all (a tree of more than one leaf, not deeper
+    /// than the packet stack, on a CPU with AVX2).
+    pub fn has_packets(&self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        {
+            self.root_leaf.is_none()
+                && !self.nodes.is_empty()
+                && stack_need::<8>(self.depth) <= STACK
+                && has_avx2()
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        false
+    }
+
     /// Closest hits of up to [`PACKET`] rays in `(0, t_max)`, into `out[i]` for `rays[i]`: the hits
     /// of [`WideBvh::traverse`] on each ray (see the module's notes on ties).
     pub fn intersect_packet<P: Primitives>(
