@@ -63,16 +63,12 @@ impl WideBvh<8> {
         stats: &mut TraversalStats,
     ) {
         assert!(rays.len() <= PACKET && out.len() >= rays.len());
+        // SAFETY: `has_packets` checked for AVX2.
         #[cfg(target_arch = "x86_64")]
         if !rays.is_empty()
-            && self.root_leaf.is_none()
-            && !self.nodes.is_empty()
-            && stack_need::<8>(self.depth) <= STACK
-            && one_octant(rays)
-            && has_avx2()
+            && self.has_packets()
+            && unsafe { self.packet_avx2(prims, rays, t_max, out, stats) }
         {
-            // SAFETY: the CPU has AVX2.
-            unsafe { self.packet_avx2(prims, rays, t_max, out, stats) };
             return;
         }
         for (ray, o) in rays.iter().zip(out.iter_mut()) {
@@ -80,6 +76,8 @@ impl WideBvh<8> {
         }
     }
 
+    /// The packet traversal, or `false` (having done nothing) when the rays' directions do not
+    /// all share one octant.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn packet_avx2<P: Primitives>(
@@ -89,28 +87,36 @@ impl WideBvh<8> {
         t_max: f32,
         out: &mut [Option<Hit>],
         stats: &mut TraversalStats,
-    ) {
+    ) -> bool {
         use super::simd::avx::*;
+        use std::arch::x86_64::{_mm256_div_ps, _mm256_movemask_ps};
         let n = rays.len();
-        stats.rays += n as u64;
         // Structure of arrays; unused lanes repeat ray 0 and are never active.
-        let lane_ray = |i: usize| &rays[if i < n { i } else { 0 }];
-        let mut o = [[0.0f32; PACKET]; 3];
-        let mut dir = [[0.0f32; PACKET]; 3];
-        for i in 0..PACKET {
-            let r = lane_ray(i);
-            for (a, (o, d)) in o.iter_mut().zip(&mut dir).enumerate() {
-                o[i] = r.origin[a];
-                d[i] = r.dir[a];
-            }
+        let r0 = rays[0];
+        let mut o = [
+            [r0.origin.x; PACKET],
+            [r0.origin.y; PACKET],
+            [r0.origin.z; PACKET],
+        ];
+        let mut dir = [[r0.dir.x; PACKET], [r0.dir.y; PACKET], [r0.dir.z; PACKET]];
+        for (i, r) in (0..PACKET).zip(rays) {
+            (o[0][i], o[1][i], o[2][i]) = (r.origin.x, r.origin.y, r.origin.z);
+            (dir[0][i], dir[1][i], dir[2][i]) = (r.dir.x, r.dir.y, r.dir.z);
         }
+        let dv = dir.map(|x| loadu(x.as_ptr()));
+        // One octant: every axis's sign bits (so `-0` counts as negative, as in the single-ray
+        // test's choice of planes) all clear or all set.
+        let signs = dv.map(|x| _mm256_movemask_ps(x) as u32);
+        if signs.iter().any(|&m| m != 0 && m != 0xff) {
+            return false;
+        }
+        stats.rays += n as u64;
         let ov = o.map(|x| loadu(x.as_ptr()));
         // The single-ray set-up's `1 / d` (`RayBoxes::new`), eight lanes per division: IEEE
         // division is correctly rounded, so the lanes hold the same bits.
-        let iv = dir.map(|x| std::arch::x86_64::_mm256_div_ps(splat(1.0), loadu(x.as_ptr())));
+        let iv = dv.map(|x| _mm256_div_ps(splat(1.0), x));
         // Near and far rows of every axis, from the octant all rays share.
-        let d = rays[0].dir;
-        let neg = [d.x, d.y, d.z].map(|c| (c.to_bits() >> 31) as usize);
+        let neg = signs.map(|m| (m & 1) as usize);
         let near = [neg[0], 2 + neg[1], 4 + neg[2]];
         let far_row = [1 - neg[0], 3 - neg[1], 5 - neg[2]];
         let far = far_scale();
@@ -237,6 +243,7 @@ impl WideBvh<8> {
             }
         }
         out[..n].copy_from_slice(&best[..n]);
+        true
     }
 }
 
@@ -249,7 +256,8 @@ struct Entry {
 }
 
 /// Whether all rays' directions have the same sign bits (so `-0` and `+0` differ, as in the
-/// single-ray test's choice of planes).
+/// single-ray test's choice of planes): the tests' independent statement of the packet condition.
+#[cfg(test)]
 fn one_octant(rays: &[Ray]) -> bool {
     let signs = |r: &Ray| {
         let d = r.dir;
