@@ -66,6 +66,11 @@ def main():
                 f"{cell(r, 'incoherent_mrays')} | {cell(r, 'shadow_mrays')} |"
             )
         packet = embree.get("packet8_mrays" + suffix)
+        for r in rows:
+            mine = r.get("packet8_mrays" + suffix)
+            if r is not embree and mine:
+                ratio = f" ({mine / packet:.2f}x)" if packet else ""
+                print(f"| | | {r['accel']} packets of 8 | | | {mine:.3g}{ratio} | | |")
         print(
             f"| | | embree rtcIntersect8 | | | {packet:.3g} | | |"
             if packet

@@ -114,7 +114,18 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let mut notes = vec![];
     for kind in kinds {
-        print_result(&bench_accel(&target, &rays, kind, &options), args.json)?;
+        let r = bench_accel(&target, &rays, kind, &options);
+        print_result(&r, args.json)?;
+        if let (Some(one), Some(all)) = (r.packet8_mrays_1t, r.packet8_mrays) {
+            notes.push(format!(
+                "{}: camera rays in packets of 8: {} / {} Mrays/s ({} of {} hits differ from single rays')",
+                r.accel,
+                rate(one),
+                rate(all),
+                r.packet8_mismatches.unwrap_or(0),
+                r.rays_primary
+            ));
+        }
     }
     if args.embree {
         let e = EmbreeBenchOptions {

@@ -104,6 +104,10 @@ pub struct BenchResult {
     pub packet8_mrays_1t: Option<f64>,
     /// Fraction of camera and incoherent rays on which a peer reports the same primitive as Appel's
     /// BVH (or a miss for both).
+    /// Camera rays whose packet hit is not the single-ray hit (BVH only; 0 unless two primitives
+    /// are hit at exactly the same distance).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packet8_mismatches: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub agreement: Option<f64>,
     pub threads: usize,
@@ -312,6 +316,42 @@ pub fn bench_accel(
         let mut stats = TraversalStats::default();
         accel.occluded(g, &s.ray, s.t_max, &mut stats) as usize
     };
+    // Packets of eight consecutive pixels, as Embree's `rtcIntersect8` is measured; only the BVH
+    // has a packet path (every other structure would just loop over single rays).
+    let packets: Vec<&[Ray]> = primary.chunks(crate::accel::bvh::PACKET).collect();
+    let packet = |p: &&[Ray]| {
+        let mut out = [None; crate::accel::bvh::PACKET];
+        let mut stats = TraversalStats::default();
+        accel.intersect_packet(g, p, f32::INFINITY, &mut out, &mut stats);
+        out.iter().filter(|h| h.is_some()).count()
+    };
+    let is_bvh = matches!(accel, Accel::Bvh(_));
+    let packet_rate = |pool: &rayon::ThreadPool| {
+        is_bvh.then(|| {
+            throughput(
+                pool,
+                &packets,
+                crate::accel::bvh::PACKET,
+                trace_runs,
+                packet,
+            ) * primary.len() as f64
+                / (crate::accel::bvh::PACKET * packets.len()).max(1) as f64
+        })
+    };
+    let mismatches = is_bvh.then(|| {
+        let mut stats = TraversalStats::default();
+        packets
+            .iter()
+            .map(|p| {
+                let mut out = [None; crate::accel::bvh::PACKET];
+                accel.intersect_packet(g, p, f32::INFINITY, &mut out, &mut stats);
+                p.iter()
+                    .zip(out)
+                    .filter(|(r, h)| accel.intersect(g, r, f32::INFINITY, &mut stats) != *h)
+                    .count()
+            })
+            .sum()
+    });
     let runs = trace_runs;
     BenchResult {
         accel: kind.name().to_string(),
@@ -327,8 +367,9 @@ pub fn bench_accel(
         incoherent_mrays_1t: throughput(&one, &incoherent, 1, runs, closest),
         shadow_mrays: throughput(&all, &shadow, 1, runs, any),
         shadow_mrays_1t: throughput(&one, &shadow, 1, runs, any),
-        packet8_mrays: None,
-        packet8_mrays_1t: None,
+        packet8_mrays: packet_rate(&all),
+        packet8_mrays_1t: packet_rate(&one),
+        packet8_mismatches: mismatches,
         agreement: None,
         threads: all.current_num_threads(),
         rays_primary: primary.len(),

@@ -183,6 +183,32 @@ impl Accel {
         }
     }
 
+    /// Whether [`Self::intersect_packet`] traces packets together (rather than ray by ray).
+    pub fn has_packets(&self) -> bool {
+        matches!(self, Accel::Bvh(b) if b.has_packets())
+    }
+
+    /// Closest hits of up to [`bvh::PACKET`] rays, `out[i]` for `rays[i]`: the hits of
+    /// [`Self::intersect`] on each ray. The 8-wide BVH traverses coherent packets together; other
+    /// structures go ray by ray.
+    pub fn intersect_packet<P: Primitives>(
+        &self,
+        prims: &P,
+        rays: &[Ray],
+        t_max: f32,
+        out: &mut [Option<Hit>],
+        stats: &mut TraversalStats,
+    ) {
+        match self {
+            Accel::Bvh(a) => a.intersect_packet(prims, rays, t_max, out, stats),
+            _ => {
+                for (ray, o) in rays.iter().zip(out.iter_mut()) {
+                    *o = self.intersect(prims, ray, t_max, stats);
+                }
+            }
+        }
+    }
+
     #[inline]
     pub fn occluded<P: Primitives>(
         &self,

@@ -117,6 +117,7 @@ pub fn bench_embree(
             throughput(&one, &packets, 8, runs, packet8) * rays.primary.len() as f64
                 / (8 * packets.len()).max(1) as f64,
         ),
+        packet8_mismatches: None,
         agreement: Some(agreement),
         threads: all.current_num_threads(),
         rays_primary: rays.primary.len(),

@@ -64,7 +64,13 @@ impl Plane {
         if denom == 0.0 {
             return None;
         }
-        let t = (self.offset as f64 - n.dot(ray.origin.as_dvec3())) / denom;
+        let num = self.offset as f64 - n.dot(ray.origin.as_dvec3());
+        // `t = num / denom` is positive only when both have the same sign: the division (and the
+        // rectangle test) is skipped for rays leaving the plane's side, with the same answer.
+        if num == 0.0 || (num < 0.0) != (denom < 0.0) {
+            return None;
+        }
+        let t = num / denom;
         // Decided in f32, the precision callers compare in.
         let tf = t as f32;
         if !(tf > 0.0 && tf < t_max) {

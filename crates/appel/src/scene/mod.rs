@@ -354,6 +354,25 @@ impl Scene {
         self.geometry.intersect_unbounded(ray, t_max).or(bounded)
     }
 
+    /// [`Self::intersect`] of up to [`crate::accel::bvh::PACKET`] rays at once, `out[i]` for
+    /// `rays[i]`: the same hits, the 8-wide BVH tracing coherent packets together.
+    pub fn intersect_packet(
+        &self,
+        rays: &[Ray],
+        t_max: f32,
+        out: &mut [Option<SceneHit>],
+        stats: &mut TraversalStats,
+    ) {
+        let mut hits = [None; crate::accel::bvh::PACKET];
+        self.accel
+            .intersect_packet(&self.geometry, rays, t_max, &mut hits, stats);
+        for ((ray, hit), o) in rays.iter().zip(hits).zip(out.iter_mut()) {
+            let bounded = hit.map(|h| self.geometry.scene_hit(h));
+            let t_max = bounded.map_or(t_max, |h| h.t);
+            *o = self.geometry.intersect_unbounded(ray, t_max).or(bounded);
+        }
+    }
+
     /// Whether anything lies on the ray in `(0, t_max)`.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> bool {

@@ -11,7 +11,7 @@ pub use build::{BvhOptions, BvhSplit};
 pub use node::BvhNode;
 pub(crate) use traverse::{far_scale, RayBox};
 pub(crate) use wide::{test_blocks, RayTri};
-pub use wide::{TriBlock, WideBvh, WideNode};
+pub use wide::{TriBlock, WideBvh, WideNode, PACKET};
 
 use super::{AccelStats, Hit, Primitives, TraversalStats};
 #[cfg(test)]
@@ -170,6 +170,33 @@ impl Bvh {
             Wide::Binary => self.traverse::<P, false>(prims, ray, t_max, stats),
             Wide::W4(w) => w.traverse::<P, false>(prims, ray, t_max, stats),
             Wide::W8(w) => w.traverse::<P, false>(prims, ray, t_max, stats),
+        }
+    }
+
+    /// Whether [`Self::intersect_packet`] traces packets together: the 8-wide layout of more than
+    /// one leaf, on a CPU with AVX2.
+    pub fn has_packets(&self) -> bool {
+        matches!(&self.wide, Wide::W8(w) if w.has_packets())
+    }
+
+    /// Closest hits of up to [`PACKET`] rays (`out[i]` for `rays[i]`), the answers of
+    /// [`Self::intersect`] on each: the 8-wide tree traverses coherent packets together (see
+    /// `wide/packet.rs`), other layouts go ray by ray.
+    pub fn intersect_packet<P: Primitives>(
+        &self,
+        prims: &P,
+        rays: &[Ray],
+        t_max: f32,
+        out: &mut [Option<Hit>],
+        stats: &mut TraversalStats,
+    ) {
+        match &self.wide {
+            Wide::W8(w) => w.intersect_packet(prims, rays, t_max, out, stats),
+            _ => {
+                for (ray, o) in rays.iter().zip(out.iter_mut()) {
+                    *o = self.intersect(prims, ray, t_max, stats);
+                }
+            }
         }
     }
 

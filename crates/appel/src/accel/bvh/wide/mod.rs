@@ -6,6 +6,7 @@
 
 mod leaf;
 mod node;
+mod packet;
 #[cfg(target_arch = "x86_64")]
 mod simd;
 mod traverse;
@@ -13,6 +14,7 @@ mod tri_block;
 
 pub(crate) use leaf::test_blocks;
 pub use node::WideNode;
+pub use packet::PACKET;
 pub(crate) use tri_block::RayTri;
 pub use tri_block::TriBlock;
 
