@@ -1,4 +1,5 @@
 //! Tuning the kd-tree: `cargo run --release -p appel --example kd_tune -- MESH [ISECT_COST EMPTY_BONUS MAX_PRIMS DEPTH_ADD MAX_BAD]...`
+//! (MESH may also name a built-in benchmark scene, of `KD_TRIANGLES` triangles)
 //! builds the kd-tree over a mesh file with each option set (and the BVH for reference) and prints
 //! build time, bytes, and 1-thread Mrays/s on the camera, incoherent and shadow rays of `appel bench`.
 //! `KD_RACE=1`: builds every structure first, then times them in alternation (best of 7 passes) and
@@ -7,24 +8,29 @@
 //! `valgrind --tool=callgrind` or `--tool=cachegrind --branch-sim=yes`.
 
 use appel::accel::{Accel, AccelKind, KdOptions, KdTree, TraversalStats};
-use appel::bench::{throughput, BenchRays, BenchTarget};
+use appel::bench::{bench_scene, throughput, BenchRays, BenchTarget};
 use appel::scene::{frame_model, model_description, Scene};
 use std::path::Path;
 use std::time::Instant;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let path = Path::new(&args[0]);
-    let d = model_description(path.file_name().unwrap().to_str().unwrap());
-    let mut scene = Scene::new(&d, path.parent().unwrap()).expect("scene");
-    let framed = frame_model(&d, scene.geometry.bounds());
-    scene.set_view(&framed);
-    let target = BenchTarget {
-        name: args[0].clone(),
-        geometry: scene.geometry,
-        camera: scene.camera,
-        accel_options: Default::default(),
-    };
+    // A built-in benchmark scene (`uniform`, `teapot-in-stadium`; `KD_TRIANGLES`, default 10^6)
+    // or a mesh file.
+    let triangles = std::env::var("KD_TRIANGLES").map_or(1_000_000, |v| v.parse().unwrap());
+    let target = bench_scene(&args[0], triangles, 640, 480).unwrap_or_else(|| {
+        let path = Path::new(&args[0]);
+        let d = model_description(path.file_name().unwrap().to_str().unwrap());
+        let mut scene = Scene::new(&d, path.parent().unwrap()).expect("scene");
+        let framed = frame_model(&d, scene.geometry.bounds());
+        scene.set_view(&framed);
+        BenchTarget {
+            name: args[0].clone(),
+            geometry: scene.geometry,
+            camera: scene.camera,
+            accel_options: Default::default(),
+        }
+    });
     let rays = BenchRays::new(&target);
     let g = &target.geometry;
     let pool = rayon::ThreadPoolBuilder::new()
