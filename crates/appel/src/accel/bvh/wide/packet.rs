@@ -16,26 +16,30 @@
 //!   single ray finds, except that of two primitives hit at exactly the same `t` the one tested
 //!   first wins, and the packet may visit them in another order.
 
-use super::node::{self, Child};
-#[cfg(target_arch = "x86_64")]
-use super::traverse::stack_need;
-use super::tri_block::RayTri;
 use super::WideBvh;
-use crate::accel::bvh::far_scale;
-use crate::accel::has_avx2;
 use crate::accel::{Hit, Primitives, TraversalStats};
 use crate::math::Ray;
-use std::mem::MaybeUninit;
+#[cfg(target_arch = "x86_64")]
+use {
+    super::node::{self, Child},
+    super::traverse::stack_need,
+    super::tri_block::RayTri,
+    crate::accel::bvh::far_scale,
+    crate::accel::has_avx2,
+    std::mem::MaybeUninit,
+};
 
 /// Rays per packet.
 pub const PACKET: usize = 8;
 
 /// Stack entries of a packet traversal; deeper trees go ray by ray.
+#[cfg(target_arch = "x86_64")]
 const STACK: usize = 128;
 
 /// A subtree reached by fewer active rays than this is traversed ray by ray (measured with
 /// callgrind on the bunny's camera rays and a 10^5-triangle soup: 3 needs 1.6% and 5.6% fewer
 /// instructions than never splitting, 2 and 5 fewer than never but more than 3).
+#[cfg(target_arch = "x86_64")]
 const SHARED: u32 = 3;
 
 impl WideBvh<8> {
@@ -248,6 +252,7 @@ impl WideBvh<8> {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 struct Entry {
     child: Child,
