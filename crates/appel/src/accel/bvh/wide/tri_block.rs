@@ -20,7 +20,7 @@ use crate::math::{Ray, Vec3};
 /// leaf's last block repeats its lane 0 in its unused lanes, which traversal masks off by the
 /// leaf's primitive count.
 #[repr(C, align(16))]
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, bytemuck::Zeroable)]
 pub struct TriBlock {
     pub v: [[f32; 4]; 9],
     pub id: [u32; 4],
