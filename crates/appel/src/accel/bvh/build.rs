@@ -70,6 +70,10 @@ pub struct BvhOptions {
     pub block: usize,
     /// Ranges larger than this build their two children in parallel.
     pub parallel_threshold: usize,
+    /// Wide layouts only: leaves keep their primitives' ids (4 bytes each) instead of their
+    /// triangles' vertices (40 bytes each), which traversal fetches through `Primitives` at
+    /// every leaf visit: a quarter of the structure's memory, slower rays (docs/performance.md).
+    pub compact: bool,
 }
 
 impl Default for BvhOptions {
@@ -87,6 +91,7 @@ impl Default for BvhOptions {
             intersect_cost: 1.0,
             block: 0,
             parallel_threshold: 32 * 1024,
+            compact: false,
         }
     }
 }

@@ -22,7 +22,11 @@ use rayon::prelude::*;
 #[derive(Clone, Debug, Default)]
 pub struct WideBvh<const W: usize> {
     nodes: Vec<WideNode<W>>,
+    /// The leaves' triangles; empty for compact leaves.
     blocks: Vec<TriBlock>,
+    /// Compact leaves (`BvhOptions::compact`): each block's four primitive ids, padded as the
+    /// blocks are, the vertices fetched through `Primitives` at every visit; empty otherwise.
+    ids: Vec<[u32; 4]>,
     /// Edges from the root to the deepest leaf.
     depth: usize,
     /// The tree is one leaf (a scene of a few primitives): traversal tests it without a box test.
@@ -146,11 +150,36 @@ fn scatter<P: Primitives>(
         .collect()
 }
 
+/// Compact leaves: each leaf's ids in blocks of four, the last one padded with its lane 0, as
+/// [`gather`] pads the triangle blocks; returns the same flags.
+fn compact_ids<P: Primitives>(
+    prims: &P,
+    leaves: &[LeafRange],
+    indices: &[u32],
+    ids: &mut [[u32; 4]],
+) -> Vec<bool> {
+    // Flags need a look at each primitive in leaf order (scattered reads); skip it when no
+    // primitive is called back, found by reading them in their own order.
+    let called_back = (0..indices.len())
+        .into_par_iter()
+        .any(|i| prims.watertight_triangle(i).is_none());
+    runs(leaves, ids)
+        .into_par_iter()
+        .map(|(l, run)| {
+            let leaf = &indices[l.first_index as usize..][..l.count as usize];
+            for (chunk, block) in leaf.chunks(4).zip(run.iter_mut()) {
+                *block = [0, 1, 2, 3].map(|k| chunk[if k < chunk.len() { k } else { 0 }]);
+            }
+            called_back
+                && leaf
+                    .iter()
+                    .all(|&id| prims.watertight_triangle(id as usize).is_none())
+        })
+        .collect()
+}
+
 /// Each leaf with its run of blocks, for working on leaves in parallel.
-fn runs<'a>(
-    leaves: &'a [LeafRange],
-    blocks: &'a mut [TriBlock],
-) -> Vec<(&'a LeafRange, &'a mut [TriBlock])> {
+fn runs<'a, T>(leaves: &'a [LeafRange], blocks: &'a mut [T]) -> Vec<(&'a LeafRange, &'a mut [T])> {
     let mut runs = Vec::with_capacity(leaves.len());
     let mut rest = blocks;
     for l in leaves {
@@ -178,15 +207,31 @@ impl SharedU32 {
 impl<const W: usize> WideBvh<W> {
     /// Collapses a binary tree (`nodes` in depth-first order, leaves naming ranges of `indices`).
     pub fn from_binary<P: Primitives>(prims: &P, nodes: &[BvhNode], indices: &[u32]) -> Self {
+        Self::from_binary_with(prims, nodes, indices, false)
+    }
+
+    /// [`Self::from_binary`], with compact leaves (primitive ids only) if `compact`.
+    pub fn from_binary_with<P: Primitives>(
+        prims: &P,
+        nodes: &[BvhNode],
+        indices: &[u32],
+        compact: bool,
+    ) -> Self {
         assert!(
             W == 4 || W == 8,
             "wide BVH nodes have 4 or 8 children, not {W}"
         );
         let mut c = Collapse::<W>::run(nodes);
-        let mut blocks: Vec<TriBlock> = bytemuck::zeroed_vec(c.blocks);
-        let no_triangles = if 4 * c.blocks <= u32::MAX as usize {
+        let mut blocks: Vec<TriBlock> = Vec::new();
+        let mut ids: Vec<[u32; 4]> = Vec::new();
+        let no_triangles = if compact {
+            ids = vec![[0; 4]; c.blocks];
+            compact_ids(prims, &c.leaves, indices, &mut ids)
+        } else if 4 * c.blocks <= u32::MAX as usize {
+            blocks = bytemuck::zeroed_vec(c.blocks);
             scatter(prims, &c.leaves, indices, &mut blocks)
         } else {
+            blocks = bytemuck::zeroed_vec(c.blocks);
             gather(prims, &c.leaves, indices, &mut blocks)
         };
         for (l, _) in c.leaves.iter().zip(no_triangles).filter(|(_, none)| *none) {
@@ -200,6 +245,7 @@ impl<const W: usize> WideBvh<W> {
         Self {
             nodes: c.nodes,
             blocks,
+            ids,
             depth: c.depth,
             root_leaf,
         }
@@ -216,6 +262,12 @@ impl<const W: usize> WideBvh<W> {
     pub fn bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<WideNode<W>>()
             + self.blocks.len() * std::mem::size_of::<TriBlock>()
+            + self.ids.len() * std::mem::size_of::<[u32; 4]>()
+    }
+
+    /// Whether the leaves hold primitive ids only (`BvhOptions::compact`).
+    pub fn compact(&self) -> bool {
+        !self.ids.is_empty()
     }
 
     /// Interior nodes and leaves.
@@ -489,11 +541,12 @@ mod tests {
     fn called_back_primitives_mix_with_triangle_lanes() {
         let m = soup(3000, 4);
         let p = Mixed(prims(&m));
-        for width in [4, 8] {
+        for (width, compact) in [(4, false), (8, false), (4, true), (8, true)] {
             let bvh = Bvh::build_with(
                 &p,
                 BvhOptions {
                     width,
+                    compact,
                     ..Default::default()
                 },
             );
@@ -602,6 +655,81 @@ mod tests {
             panic!("not 8 wide")
         };
         assert!(w.root_leaf.is_none());
+    }
+
+    /// Compact leaves hold the blocks' ids and nothing else, flag leaves without triangles
+    /// as the blocks do, and answer like brute force (and so like the full blocks), with the AVX2
+    /// pair filter, the SSE one, and leaves larger than two blocks (median splits down to 11).
+    #[test]
+    fn compact_leaves_agree_with_brute_force() {
+        let m = soup(3000, 31);
+        let moller = MeshPrimitives {
+            mesh: &m,
+            test: crate::geometry::TriangleTest::Moller,
+        };
+        let tri = prims(&m);
+        for (split, leaf_size) in [
+            (crate::accel::BvhSplit::Sah, 4),
+            (crate::accel::BvhSplit::Median, 11),
+        ] {
+            let opts = BvhOptions {
+                split,
+                leaf_size,
+                ..Default::default()
+            };
+            let full = Bvh::build_with(&tri, opts);
+            let compact = Bvh::build_with(
+                &tri,
+                BvhOptions {
+                    compact: true,
+                    ..opts
+                },
+            );
+            let (Wide::W8(f), Wide::W8(c)) = (&full.wide, &compact.wide) else {
+                panic!("not 8 wide")
+            };
+            assert!(c.compact() && !f.compact() && c.blocks.is_empty());
+            assert_eq!(c.nodes, f.nodes);
+            assert!(c.ids.iter().zip(&f.blocks).all(|(i, b)| *i == b.id));
+            assert_eq!(
+                compact.stats().bytes,
+                f.nodes.len() * 256 + f.blocks.len() * 16
+            );
+            let hits = agrees_with_brute(
+                &tri,
+                &rays(500, 32),
+                |r, t, s| compact.intersect(&tri, r, t, s),
+                |r, t, s| compact.occluded(&tri, r, t, s),
+            );
+            assert!(hits > 200, "{hits}");
+            agrees_with_brute(
+                &tri,
+                &rays(300, 33),
+                |r, t, s| c.traverse_sized::<_, false, false>(&tri, r, t, s),
+                |r, t, s| c.traverse_sized::<_, true, false>(&tri, r, t, s).is_some(),
+            );
+        }
+        let cm = Bvh::build_with(
+            &moller,
+            BvhOptions {
+                compact: true,
+                ..Default::default()
+            },
+        );
+        let Wide::W8(w) = &cm.wide else {
+            panic!("not 8 wide")
+        };
+        assert!(w
+            .nodes
+            .iter()
+            .flat_map(|n| n.child)
+            .all(|c| c == node::EMPTY || !node::is_leaf(c) || c & node::NO_TRIANGLES != 0));
+        agrees_with_brute(
+            &moller,
+            &rays(300, 34),
+            |r, t, s| cm.intersect(&moller, r, t, s),
+            |r, t, s| cm.occluded(&moller, r, t, s),
+        );
     }
 
     #[test]
