@@ -31,6 +31,9 @@ pub struct WideBvh<const W: usize> {
     depth: usize,
     /// The tree is one leaf (a scene of a few primitives): traversal tests it without a box test.
     root_leaf: Option<node::Child>,
+    /// Traversal's common case: a 128-entry stack suffices and the leaves hold triangle blocks
+    /// (decided once here rather than at every ray).
+    common: bool,
 }
 
 /// A leaf's primitives before their vertices are gathered: a range of the binary tree's index array.
@@ -243,6 +246,7 @@ impl<const W: usize> WideBvh<W> {
             .map(|r| r.child[0])
             .filter(|&x| node::is_leaf(x));
         Self {
+            common: traverse::stack_need::<W>(c.depth) <= 128 && ids.is_empty(),
             nodes: c.nodes,
             blocks,
             ids,

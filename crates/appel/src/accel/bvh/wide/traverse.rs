@@ -339,7 +339,7 @@ impl<const W: usize> WideBvh<W> {
         t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
-        if stack_need::<W>(self.depth) <= 128 && !self.compact() {
+        if self.common {
             self.traverse_with::<P, ANY, AVX, false, 128>(prims, ray, t_max, stats)
         } else {
             self.traverse_deep::<P, ANY, AVX>(prims, ray, t_max, stats)
