@@ -57,6 +57,10 @@ pub struct BenchArgs {
     /// Embree's robust (watertight) mode, RTC_SCENE_FLAG_ROBUST.
     #[arg(long, requires = "embree")]
     embree_robust: bool,
+    /// Build the BVH with compact leaves (`[render.bvh] compact = true`): primitive ids instead of
+    /// vertices.
+    #[arg(long)]
+    bvh_compact: bool,
 }
 
 /// More threads than this is a typo, not a machine.
@@ -82,7 +86,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
             args.embree_quality
         )
     })?;
-    let target = load_target(&args.target, args.triangles, w, h, &args.view)?;
+    let mut target = load_target(&args.target, args.triangles, w, h, &args.view)?;
+    target.accel_options.bvh.compact |= args.bvh_compact;
     let options = BenchOptions {
         build_runs: args.builds,
         trace_runs: args.runs,

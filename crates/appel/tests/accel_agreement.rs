@@ -29,14 +29,15 @@ fn check_all(m: &TriangleMesh, rays: &[Ray]) -> usize {
         .map(|k| (k.name().to_string(), Accel::build(k, &prims)))
         .collect();
     assert_eq!(others.len(), 3);
-    // The default BVH is 8 wide; the binary and 4-wide layouts answer the same.
-    for width in [2, 4] {
+    // The default BVH is 8 wide; the binary and 4-wide layouts, and compact leaves, answer the same.
+    for (width, compact) in [(2, false), (4, false), (4, true), (8, true)] {
         let opts = BvhOptions {
             width,
+            compact,
             ..Default::default()
         };
         others.push((
-            format!("bvh width {width}"),
+            format!("bvh width {width} compact {compact}"),
             Accel::Bvh(Bvh::build_with(&prims, opts)),
         ));
     }

@@ -25,7 +25,7 @@ pub fn flat_triangles(g: &Geometry) -> Result<FlatTriangles, String> {
     let mut positions = Vec::new();
     let mut indices = Vec::with_capacity(g.prims.len());
     let mut mesh_base: Vec<Option<u32>> = vec![None; g.meshes.len()];
-    for p in &g.prims {
+    for p in g.prims.iter() {
         let shape = &g.shapes[p.shape as usize];
         let ShapeKind::Mesh(m) = shape.kind else {
             return Err(format!(

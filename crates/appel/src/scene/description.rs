@@ -106,6 +106,8 @@ pub struct BvhDesc {
     pub bins: Option<u32>,
     /// The most primitives a leaf may hold, 1 to 255.
     pub max_leaf: Option<u32>,
+    /// Widths 4 and 8: leaves hold primitive ids only, not vertices (less memory, slower rays).
+    pub compact: Option<bool>,
 }
 
 /// `[render.grid]`.

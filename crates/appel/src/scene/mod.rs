@@ -19,7 +19,9 @@ pub mod validate;
 pub use camera::Camera;
 pub use description::Description;
 pub use frame::{frame_model, model_description};
-pub use geometry::{Geometry, PrimRef, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE};
+pub use geometry::{
+    Geometry, PrimRef, PrimRefs, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE,
+};
 pub use instance::{Instance, Prototype};
 pub use light::Light;
 pub use material::{Checker, Material};
@@ -64,6 +66,7 @@ fn accel_options(r: &description::RenderDesc) -> AccelOptions {
         o.bvh.bins = b.bins.map_or(o.bvh.bins, |v| v as usize);
         o.bvh.max_leaf = b.max_leaf.map_or(o.bvh.max_leaf, |v| v as usize);
         o.bvh.leaf_size = o.bvh.leaf_size.min(o.bvh.max_leaf);
+        o.bvh.compact = b.compact.unwrap_or(o.bvh.compact);
     }
     if let Some(d) = r.grid.as_ref().and_then(|g| g.density) {
         o.grid.density = d;

@@ -70,6 +70,10 @@ pub struct BvhOptions {
     pub block: usize,
     /// Ranges larger than this build their two children in parallel.
     pub parallel_threshold: usize,
+    /// Wide layouts only: leaves keep their primitives' ids (4 bytes each) instead of their
+    /// triangles' vertices (40 bytes each), which traversal fetches through `Primitives` at
+    /// every leaf visit: a quarter of the structure's memory, slower rays (docs/performance.md).
+    pub compact: bool,
 }
 
 impl Default for BvhOptions {
@@ -87,6 +91,7 @@ impl Default for BvhOptions {
             intersect_cost: 1.0,
             block: 0,
             parallel_threshold: 32 * 1024,
+            compact: false,
         }
     }
 }
@@ -403,6 +408,46 @@ fn partition(idx: &mut [BuildPrim], left: impl Fn(&BuildPrim) -> bool) -> (usize
     }
 }
 
+/// [`partition`] for large ranges: chunks partitioned in parallel, then the right-hand runs lying
+/// below the split swapped with the left-hand runs lying above it. Near the root a node's range is
+/// most of the input, and when its split is lopsided (teapot-in-stadium: the stadium's few
+/// triangles against the teapot's million) `rayon::join` gives the other thread almost nothing,
+/// so a serial partition there ran on one core. The chunks are fixed, so the order, and the tree,
+/// do not depend on the thread count.
+fn partition_par(
+    idx: &mut [BuildPrim],
+    left: impl Fn(&BuildPrim) -> bool + Sync,
+) -> (usize, [Box4; 2]) {
+    let n = idx.len();
+    if n <= PARALLEL_SCAN {
+        return partition(idx, left);
+    }
+    let chunk = PARALLEL_SCAN / 4;
+    let parts: Vec<(usize, [Box4; 2])> = idx
+        .par_chunks_mut(chunk)
+        .map(|c| partition(c, &left))
+        .collect();
+    let mid: usize = parts.iter().map(|p| p.0).sum();
+    let (mut low, mut high) = (Vec::new(), Vec::new());
+    let mut bounds = [Box4::EMPTY; 2];
+    for (k, (count, b)) in parts.iter().enumerate() {
+        let (start, end) = (k * chunk, ((k + 1) * chunk).min(n));
+        let split = start + count;
+        bounds = [bounds[0].union(b[0]), bounds[1].union(b[1])];
+        // Right-hand elements below `mid`, left-hand ones at or above it: as many of each.
+        if split < mid {
+            low.push(split..end.min(mid));
+        }
+        if split > mid {
+            high.push(start.max(mid)..split);
+        }
+    }
+    for (i, j) in low.into_iter().flatten().zip(high.into_iter().flatten()) {
+        idx.swap(i, j);
+    }
+    (mid, bounds)
+}
+
 #[derive(Clone, Copy)]
 struct Bin {
     bounds: Box4,
@@ -559,7 +604,7 @@ fn sah_bins<const B: usize>(
             if !(n <= max_leaf
                 && leaf_cost <= o.traversal_cost + o.intersect_cost * weighted / area) =>
         {
-            let (mid, [lc, rc]) = partition(idx, |p| binner.bins(p.centroid())[a] <= k);
+            let (mid, [lc, rc]) = partition_par(idx, |p| binner.bins(p.centroid())[a] <= k);
             if mid == 0 || mid == n {
                 median(idx, a)
             } else {
@@ -580,5 +625,42 @@ fn sah_bins<const B: usize>(
         _ if n <= max_leaf => Decision::Leaf,
         // No usable plane (a zero-area node): split by count instead.
         _ => median(idx, cb.largest_axis()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The parallel partition leaves every element satisfying the predicate before every other,
+    /// moves nothing in or out, and returns the sides' centroid bounds; on lopsided and balanced
+    /// splits of ranges several chunks long.
+    #[test]
+    fn parallel_partition_partitions() {
+        let n = 3 * PARALLEL_SCAN + 12_345;
+        let prims: Vec<BuildPrim> = (0..n as u32)
+            .map(|i| {
+                // A scrambled coordinate, so both sides are spread over every chunk.
+                let x = (i.wrapping_mul(2_654_435_761) >> 8) as f32 / (1u32 << 24) as f32;
+                let b = Aabb::new(
+                    glam::Vec3::new(x, 0.0, 1.0),
+                    glam::Vec3::new(x + 0.01, 1.0, 2.0),
+                );
+                BuildPrim::new(b, i)
+            })
+            .collect();
+        for cut in [0.001f32, 0.3, 0.5, 0.97] {
+            let mut v = prims.clone();
+            let is_left = |p: &BuildPrim| p.centroid().x < cut;
+            let (mid, [lb, rb]) = partition_par(&mut v, is_left);
+            assert_eq!(mid, prims.iter().filter(|p| is_left(p)).count());
+            assert!(v[..mid].iter().all(is_left) && !v[mid..].iter().any(is_left));
+            let mut ids: Vec<u32> = v.iter().map(|p| p.id()).collect();
+            ids.sort_unstable();
+            assert!(ids.iter().enumerate().all(|(i, &id)| id == i as u32));
+            let scan = |s: &[BuildPrim]| s.iter().fold(Box4::EMPTY, |b, p| b.include(p.centroid()));
+            let same = |a: Box4, b: Box4| a.lo == b.lo && a.hi == b.hi;
+            assert!(same(lb, scan(&v[..mid])) && same(rb, scan(&v[mid..])));
+        }
     }
 }

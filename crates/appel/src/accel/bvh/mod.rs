@@ -69,11 +69,13 @@ impl Bvh {
         let (bytes, counts, wide) = match opts.width {
             2 => return bvh,
             4 => {
-                let w = WideBvh::<4>::from_binary(prims, &bvh.nodes, &bvh.indices);
+                let w =
+                    WideBvh::<4>::from_binary_with(prims, &bvh.nodes, &bvh.indices, opts.compact);
                 (w.bytes(), w.counts(), Wide::W4(w))
             }
             8 => {
-                let w = WideBvh::<8>::from_binary(prims, &bvh.nodes, &bvh.indices);
+                let w =
+                    WideBvh::<8>::from_binary_with(prims, &bvh.nodes, &bvh.indices, opts.compact);
                 (w.bytes(), w.counts(), Wide::W8(w))
             }
             w => panic!("BVH width must be 2, 4 or 8, not {w}"),

@@ -20,17 +20,24 @@ pub use tri_block::TriBlock;
 
 use super::node::BvhNode;
 use crate::accel::Primitives;
-use crate::math::Aabb;
+use crate::math::{Aabb, Vec3};
 use rayon::prelude::*;
 
 #[derive(Clone, Debug, Default)]
 pub struct WideBvh<const W: usize> {
     nodes: Vec<WideNode<W>>,
+    /// The leaves' triangles; empty for compact leaves.
     blocks: Vec<TriBlock>,
+    /// Compact leaves (`BvhOptions::compact`): each block's four primitive ids, padded as the
+    /// blocks are, the vertices fetched through `Primitives` at every visit; empty otherwise.
+    ids: Vec<[u32; 4]>,
     /// Edges from the root to the deepest leaf.
     depth: usize,
     /// The tree is one leaf (a scene of a few primitives): traversal tests it without a box test.
     root_leaf: Option<node::Child>,
+    /// Traversal's common case: a 128-entry stack suffices and the leaves hold triangle blocks
+    /// (decided once here rather than at every ray).
+    common: bool,
 }
 
 /// A leaf's primitives before their vertices are gathered: a range of the binary tree's index array.
@@ -39,15 +46,253 @@ struct LeafRange {
     slot: (u32, u8),
     first_index: u32,
     count: u32,
+    first_block: u32,
+}
+
+/// Fills the leaves' blocks (`leaves` in block order, each owning `ceil(count / 4)` consecutive
+/// blocks) leaf by leaf; returns, per leaf, whether none of its primitives is a gathered triangle.
+/// Reading the primitives in leaf order jumps around the scene's arrays (several dependent cache
+/// misses per triangle: its reference, its indices, its vertices), so this is the fallback for
+/// trees with more than 2^32 lanes; [`scatter`] is the usual way.
+fn gather<P: Primitives>(
+    prims: &P,
+    leaves: &[LeafRange],
+    indices: &[u32],
+    blocks: &mut [TriBlock],
+) -> Vec<bool> {
+    // Each leaf owns a disjoint run of blocks: in parallel over leaves.
+    runs(leaves, blocks)
+        .into_par_iter()
+        .map(|(l, run)| {
+            let ids = &indices[l.first_index as usize..][..l.count as usize];
+            let mut any_triangle = false;
+            for (chunk, block) in ids.chunks(4).zip(run.iter_mut()) {
+                *block = TriBlock::gather(prims, chunk);
+                any_triangle |= block.has_triangle();
+            }
+            !any_triangle
+        })
+        .collect()
+}
+
+/// [`gather`]'s result, built the other way round: the primitives are read in their own order,
+/// which is sequential in the scene's arrays, and each is written to its lane, wherever that is
+/// (stores do not wait for memory the way dependent loads do). Then each leaf's last block has its
+/// unused lanes filled with its lane 0. At 10^6 scattered triangles with 2 threads (a loaded
+/// machine, so rough): the gather took 240-300 ms of a 650-980 ms build, this 37-46 ms.
+fn scatter<P: Primitives>(
+    prims: &P,
+    leaves: &[LeafRange],
+    indices: &[u32],
+    blocks: &mut [TriBlock],
+) -> Vec<bool> {
+    /// Lanes of the blocks, written by many threads, each lane by exactly one.
+    #[derive(Clone, Copy)]
+    struct Lanes(*mut TriBlock);
+    // SAFETY: the threads write disjoint lanes, through raw pointers (no references overlap).
+    unsafe impl Send for Lanes {}
+    unsafe impl Sync for Lanes {}
+    impl Lanes {
+        /// SAFETY: `lane / 4` is in bounds, and no other thread touches this lane meanwhile.
+        #[inline(always)]
+        unsafe fn write(self, lane: usize, id: u32, tri: Option<[Vec3; 3]>) {
+            let b = self.0.add(lane / 4);
+            let l = lane % 4;
+            std::ptr::addr_of_mut!((*b).id)
+                .cast::<u32>()
+                .add(l)
+                .write(id);
+            let v = std::ptr::addr_of_mut!((*b).v).cast::<f32>();
+            for k in 0..3 {
+                for a in 0..3 {
+                    let x = tri.map_or(f32::NAN, |t| t[k][a]);
+                    v.add(4 * (3 * k + a) + l).write(x);
+                }
+            }
+        }
+    }
+    assert!(4 * blocks.len() <= u32::MAX as usize);
+    // Every primitive's lane, `4 * block + lane`.
+    let mut lane_of = vec![0u32; indices.len()];
+    {
+        let out = SharedU32(lane_of.as_mut_ptr());
+        leaves.par_iter().for_each(|l| {
+            let ids = &indices[l.first_index as usize..][..l.count as usize];
+            for (k, &id) in ids.iter().enumerate() {
+                // SAFETY: every id appears once in `indices`, so each element is written once.
+                unsafe { out.write(id as usize, 4 * l.first_block + k as u32) };
+            }
+        });
+    }
+    let lanes = Lanes(blocks.as_mut_ptr());
+    let called_back = std::sync::atomic::AtomicBool::new(false);
+    lane_of
+        .par_iter()
+        .enumerate()
+        .with_min_len(4096)
+        .for_each(|(id, &lane)| {
+            let tri = prims.watertight_triangle(id);
+            if tri.is_none() {
+                called_back.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+            // SAFETY: `lane_of` is a permutation of the leaves' lanes, all inside `blocks`.
+            unsafe { lanes.write(lane as usize, id as u32, tri) };
+        });
+    drop(lane_of);
+    let called_back = called_back.into_inner();
+    // Pad each leaf's last block, and flag the leaves without triangles.
+    runs(leaves, blocks)
+        .into_par_iter()
+        .map(|(l, run)| {
+            let used = l.count as usize - 4 * (run.len() - 1);
+            let last = run.last_mut().expect("a leaf has a block");
+            for lane in used..4 {
+                last.id[lane] = last.id[0];
+                for row in &mut last.v {
+                    row[lane] = row[0];
+                }
+            }
+            called_back && !run.iter().any(|b| b.has_triangle())
+        })
+        .collect()
+}
+
+/// Compact leaves: each leaf's ids in blocks of four, the last one padded with its lane 0, as
+/// [`gather`] pads the triangle blocks; returns the same flags.
+fn compact_ids<P: Primitives>(
+    prims: &P,
+    leaves: &[LeafRange],
+    indices: &[u32],
+    ids: &mut [[u32; 4]],
+) -> Vec<bool> {
+    // Flags need a look at each primitive in leaf order (scattered reads); skip it when no
+    // primitive is called back, found by reading them in their own order.
+    let called_back = (0..indices.len())
+        .into_par_iter()
+        .any(|i| prims.watertight_triangle(i).is_none());
+    runs(leaves, ids)
+        .into_par_iter()
+        .map(|(l, run)| {
+            let leaf = &indices[l.first_index as usize..][..l.count as usize];
+            for (chunk, block) in leaf.chunks(4).zip(run.iter_mut()) {
+                *block = [0, 1, 2, 3].map(|k| chunk[if k < chunk.len() { k } else { 0 }]);
+            }
+            called_back
+                && leaf
+                    .iter()
+                    .all(|&id| prims.watertight_triangle(id as usize).is_none())
+        })
+        .collect()
+}
+
+/// Each leaf with its run of blocks, for working on leaves in parallel.
+fn runs<'a, T>(leaves: &'a [LeafRange], blocks: &'a mut [T]) -> Vec<(&'a LeafRange, &'a mut [T])> {
+    let mut runs = Vec::with_capacity(leaves.len());
+    let mut rest = blocks;
+    for l in leaves {
+        let (run, tail) = rest.split_at_mut(l.count.div_ceil(4) as usize);
+        runs.push((l, run));
+        rest = tail;
+    }
+    runs
+}
+
+#[derive(Clone, Copy)]
+struct SharedU32(*mut u32);
+// SAFETY: used only to write distinct elements from different threads.
+unsafe impl Send for SharedU32 {}
+unsafe impl Sync for SharedU32 {}
+
+impl SharedU32 {
+    /// SAFETY: `i` is in bounds, and no other thread touches element `i` meanwhile.
+    #[inline(always)]
+    unsafe fn write(self, i: usize, x: u32) {
+        self.0.add(i).write(x);
+    }
 }
 
 impl<const W: usize> WideBvh<W> {
     /// Collapses a binary tree (`nodes` in depth-first order, leaves naming ranges of `indices`).
     pub fn from_binary<P: Primitives>(prims: &P, nodes: &[BvhNode], indices: &[u32]) -> Self {
+        Self::from_binary_with(prims, nodes, indices, false)
+    }
+
+    /// [`Self::from_binary`], with compact leaves (primitive ids only) if `compact`.
+    pub fn from_binary_with<P: Primitives>(
+        prims: &P,
+        nodes: &[BvhNode],
+        indices: &[u32],
+        compact: bool,
+    ) -> Self {
         assert!(
             W == 4 || W == 8,
             "wide BVH nodes have 4 or 8 children, not {W}"
         );
+        let mut c = Collapse::<W>::run(nodes);
+        let mut blocks: Vec<TriBlock> = Vec::new();
+        let mut ids: Vec<[u32; 4]> = Vec::new();
+        let no_triangles = if compact {
+            ids = vec![[0; 4]; c.blocks];
+            compact_ids(prims, &c.leaves, indices, &mut ids)
+        } else if 4 * c.blocks <= u32::MAX as usize {
+            blocks = bytemuck::zeroed_vec(c.blocks);
+            scatter(prims, &c.leaves, indices, &mut blocks)
+        } else {
+            blocks = bytemuck::zeroed_vec(c.blocks);
+            gather(prims, &c.leaves, indices, &mut blocks)
+        };
+        for (l, _) in c.leaves.iter().zip(no_triangles).filter(|(_, none)| *none) {
+            c.nodes[l.slot.0 as usize].child[l.slot.1 as usize] |= node::NO_TRIANGLES;
+        }
+        let root = c.nodes.first();
+        let root_leaf = root
+            .filter(|r| c.nodes.len() == 1 && r.child[1..].iter().all(|&x| x == node::EMPTY))
+            .map(|r| r.child[0])
+            .filter(|&x| node::is_leaf(x));
+        Self {
+            common: traverse::stack_need::<W>(c.depth) <= 128 && ids.is_empty(),
+            nodes: c.nodes,
+            blocks,
+            ids,
+            depth: c.depth,
+            root_leaf,
+        }
+    }
+
+    pub fn nodes(&self) -> &[WideNode<W>] {
+        &self.nodes
+    }
+
+    pub fn depth(&self) -> usize {
+        self.depth
+    }
+
+    pub fn bytes(&self) -> usize {
+        self.nodes.len() * std::mem::size_of::<WideNode<W>>()
+            + self.blocks.len() * std::mem::size_of::<TriBlock>()
+            + self.ids.len() * std::mem::size_of::<[u32; 4]>()
+    }
+
+    /// Whether the leaves hold primitive ids only (`BvhOptions::compact`).
+    pub fn compact(&self) -> bool {
+        !self.ids.is_empty()
+    }
+
+    /// Interior nodes and leaves.
+    pub fn counts(&self) -> (usize, usize) {
+        let leaves = self
+            .nodes
+            .iter()
+            .flat_map(|n| n.child.iter())
+            .filter(|&&c| c != node::EMPTY && node::is_leaf(c))
+            .count();
+        (self.nodes.len(), leaves)
+    }
+}
+
+impl<'a, const W: usize> Collapse<'a, W> {
+    /// The wide nodes over binary tree `nodes`, and the leaves to gather.
+    fn run(nodes: &'a [BvhNode]) -> Self {
         let mut c = Collapse {
             bin: nodes,
             nodes: Vec::with_capacity(nodes.len() / (W - 1) + 1),
@@ -69,71 +314,7 @@ impl<const W: usize> WideBvh<W> {
             c.blocks <= u32::MAX as usize,
             "too many leaf blocks for 32-bit block indices"
         );
-        let mut blocks = vec![
-            TriBlock {
-                v: [[0.0; 4]; 9],
-                id: [0; 4]
-            };
-            c.blocks
-        ];
-        // Gather the vertices leaf by leaf, in parallel: each leaf owns a disjoint run of blocks.
-        let mut runs: Vec<(&LeafRange, &mut [TriBlock])> = Vec::with_capacity(c.leaves.len());
-        let mut rest: &mut [TriBlock] = &mut blocks;
-        for l in &c.leaves {
-            let (run, tail) = rest.split_at_mut(l.count.div_ceil(4) as usize);
-            runs.push((l, run));
-            rest = tail;
-        }
-        let no_triangles: Vec<bool> = runs
-            .into_par_iter()
-            .map(|(l, run)| {
-                let ids = &indices[l.first_index as usize..][..l.count as usize];
-                let mut any_triangle = false;
-                for (chunk, block) in ids.chunks(4).zip(run.iter_mut()) {
-                    *block = TriBlock::gather(prims, chunk);
-                    any_triangle |= block.has_triangle();
-                }
-                !any_triangle
-            })
-            .collect();
-        for (l, _) in c.leaves.iter().zip(no_triangles).filter(|(_, none)| *none) {
-            c.nodes[l.slot.0 as usize].child[l.slot.1 as usize] |= node::NO_TRIANGLES;
-        }
-        let root = c.nodes.first();
-        let root_leaf = root
-            .filter(|r| c.nodes.len() == 1 && r.child[1..].iter().all(|&x| x == node::EMPTY))
-            .map(|r| r.child[0])
-            .filter(|&x| node::is_leaf(x));
-        Self {
-            nodes: c.nodes,
-            blocks,
-            depth: c.depth,
-            root_leaf,
-        }
-    }
-
-    pub fn nodes(&self) -> &[WideNode<W>] {
-        &self.nodes
-    }
-
-    pub fn depth(&self) -> usize {
-        self.depth
-    }
-
-    pub fn bytes(&self) -> usize {
-        self.nodes.len() * std::mem::size_of::<WideNode<W>>()
-            + self.blocks.len() * std::mem::size_of::<TriBlock>()
-    }
-
-    /// Interior nodes and leaves.
-    pub fn counts(&self) -> (usize, usize) {
-        let leaves = self
-            .nodes
-            .iter()
-            .flat_map(|n| n.child.iter())
-            .filter(|&&c| c != node::EMPTY && node::is_leaf(c))
-            .count();
-        (self.nodes.len(), leaves)
+        c
     }
 }
 
@@ -153,6 +334,7 @@ impl<const W: usize> Collapse<'_, W> {
             slot: (slot.0 as u32, slot.1 as u8),
             first_index: n.offset,
             count: n.count as u32,
+            first_block,
         });
         self.blocks += (n.count as usize).div_ceil(4);
         node::leaf(first_block, n.count as u32)
@@ -274,6 +456,39 @@ mod tests {
         }
     }
 
+    /// The scatter (the usual way) fills exactly the blocks, padding and flags the gather does,
+    /// bit for bit, with triangles, called-back primitives and leaves of only the latter.
+    #[test]
+    fn scatter_fills_the_blocks_the_gather_does() {
+        let m = soup(3001, 17);
+        let mixed = Mixed(prims(&m));
+        let moller = MeshPrimitives {
+            mesh: &m,
+            test: crate::geometry::TriangleTest::Moller,
+        };
+        fn both<P: Primitives>(p: &P) -> usize {
+            let b = binary(p);
+            let c = Collapse::<8>::run(&b.nodes);
+            let mut x: Vec<TriBlock> = bytemuck::zeroed_vec(c.blocks);
+            let mut y: Vec<TriBlock> = bytemuck::zeroed_vec(c.blocks);
+            let fx = gather(p, &c.leaves, &b.indices, &mut x);
+            let fy = scatter(p, &c.leaves, &b.indices, &mut y);
+            assert_eq!(fx, fy);
+            let bits = |v: &[TriBlock]| -> Vec<u32> {
+                v.iter()
+                    .flat_map(|b| b.v.iter().flatten().map(|f| f.to_bits()).chain(b.id))
+                    .collect()
+            };
+            assert!(bits(&x) == bits(&y));
+            // Padded lanes exist (the test would not see them otherwise).
+            assert!(c.leaves.iter().any(|l| l.count % 4 != 0));
+            fx.iter().filter(|&&none| none).count()
+        }
+        assert_eq!(both(&prims(&m)), 0);
+        assert!(both(&mixed) > 0);
+        assert!(both(&moller) > 100);
+    }
+
     /// Triangles whose index is odd are "other" primitives, tested through the call back.
     struct Mixed<'a>(MeshPrimitives<'a>);
 
@@ -334,11 +549,12 @@ mod tests {
     fn called_back_primitives_mix_with_triangle_lanes() {
         let m = soup(3000, 4);
         let p = Mixed(prims(&m));
-        for width in [4, 8] {
+        for (width, compact) in [(4, false), (8, false), (4, true), (8, true)] {
             let bvh = Bvh::build_with(
                 &p,
                 BvhOptions {
                     width,
+                    compact,
                     ..Default::default()
                 },
             );
@@ -447,6 +663,81 @@ mod tests {
             panic!("not 8 wide")
         };
         assert!(w.root_leaf.is_none());
+    }
+
+    /// Compact leaves hold the blocks' ids and nothing else, flag leaves without triangles
+    /// as the blocks do, and answer like brute force (and so like the full blocks), with the AVX2
+    /// pair filter, the SSE one, and leaves larger than two blocks (median splits down to 11).
+    #[test]
+    fn compact_leaves_agree_with_brute_force() {
+        let m = soup(3000, 31);
+        let moller = MeshPrimitives {
+            mesh: &m,
+            test: crate::geometry::TriangleTest::Moller,
+        };
+        let tri = prims(&m);
+        for (split, leaf_size) in [
+            (crate::accel::BvhSplit::Sah, 4),
+            (crate::accel::BvhSplit::Median, 11),
+        ] {
+            let opts = BvhOptions {
+                split,
+                leaf_size,
+                ..Default::default()
+            };
+            let full = Bvh::build_with(&tri, opts);
+            let compact = Bvh::build_with(
+                &tri,
+                BvhOptions {
+                    compact: true,
+                    ..opts
+                },
+            );
+            let (Wide::W8(f), Wide::W8(c)) = (&full.wide, &compact.wide) else {
+                panic!("not 8 wide")
+            };
+            assert!(c.compact() && !f.compact() && c.blocks.is_empty());
+            assert_eq!(c.nodes, f.nodes);
+            assert!(c.ids.iter().zip(&f.blocks).all(|(i, b)| *i == b.id));
+            assert_eq!(
+                compact.stats().bytes,
+                f.nodes.len() * 256 + f.blocks.len() * 16
+            );
+            let hits = agrees_with_brute(
+                &tri,
+                &rays(500, 32),
+                |r, t, s| compact.intersect(&tri, r, t, s),
+                |r, t, s| compact.occluded(&tri, r, t, s),
+            );
+            assert!(hits > 200, "{hits}");
+            agrees_with_brute(
+                &tri,
+                &rays(300, 33),
+                |r, t, s| c.traverse_sized::<_, false, false>(&tri, r, t, s),
+                |r, t, s| c.traverse_sized::<_, true, false>(&tri, r, t, s).is_some(),
+            );
+        }
+        let cm = Bvh::build_with(
+            &moller,
+            BvhOptions {
+                compact: true,
+                ..Default::default()
+            },
+        );
+        let Wide::W8(w) = &cm.wide else {
+            panic!("not 8 wide")
+        };
+        assert!(w
+            .nodes
+            .iter()
+            .flat_map(|n| n.child)
+            .all(|c| c == node::EMPTY || !node::is_leaf(c) || c & node::NO_TRIANGLES != 0));
+        agrees_with_brute(
+            &moller,
+            &rays(300, 34),
+            |r, t, s| cm.intersect(&moller, r, t, s),
+            |r, t, s| cm.occluded(&moller, r, t, s),
+        );
     }
 
     #[test]

@@ -43,12 +43,13 @@ const STACK: usize = 128;
 const SHARED: u32 = 3;
 
 impl WideBvh<8> {
-    /// Whether packets can take the packet path at all (a tree of more than one leaf, not deeper
-    /// than the packet stack, on a CPU with AVX2).
+    /// Whether packets can take the packet path at all (a tree of more than one leaf with triangle
+    /// blocks rather than compact leaves, not deeper than the packet stack, on a CPU with AVX2).
     pub fn has_packets(&self) -> bool {
         #[cfg(target_arch = "x86_64")]
         {
             self.root_leaf.is_none()
+                && !self.compact()
                 && !self.nodes.is_empty()
                 && stack_need::<8>(self.depth) <= STACK
                 && has_avx2()
@@ -148,7 +149,7 @@ impl WideBvh<8> {
                 while m != 0 {
                     let i = m.trailing_zeros() as usize;
                     m &= m - 1;
-                    let h = self.traverse_from::<P, false, true, STACK>(
+                    let h = self.traverse_from::<P, false, true, false, STACK>(
                         cur,
                         prims,
                         &rays[i],
@@ -219,7 +220,7 @@ impl WideBvh<8> {
                 while m != 0 {
                     let i = m.trailing_zeros() as usize;
                     m &= m - 1;
-                    self.leaf::<P, false, true>(
+                    self.leaf::<P, false, true, false>(
                         cur,
                         &mut rt[i],
                         prims,

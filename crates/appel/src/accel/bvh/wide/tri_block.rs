@@ -20,7 +20,7 @@ use crate::math::{Ray, Vec3};
 /// leaf's last block repeats its lane 0 in its unused lanes, which traversal masks off by the
 /// leaf's primitive count.
 #[repr(C, align(16))]
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, bytemuck::Zeroable)]
 pub struct TriBlock {
     pub v: [[f32; 4]; 9],
     pub id: [u32; 4],
@@ -29,6 +29,12 @@ pub struct TriBlock {
 const _: () = assert!(std::mem::size_of::<TriBlock>() == 160);
 
 impl TriBlock {
+    /// A block of no primitives (zeros), to be overwritten.
+    pub const PADDING: TriBlock = TriBlock {
+        v: [[0.0; 4]; 9],
+        id: [0; 4],
+    };
+
     /// `lanes[i]` is a primitive id and its triangle, or `None` for a primitive that is called back.
     pub fn new(lanes: &[(u32, Option<[Vec3; 3]>)]) -> Self {
         assert!(!lanes.is_empty() && lanes.len() <= 4);
