@@ -21,6 +21,29 @@ pub use stats::{AccelStats, TraversalStats};
 use crate::geometry::PrimHit;
 use crate::math::{Aabb, Ray, Vec3};
 
+/// Structures of more bytes than this prefetch the nodes and leaves they push on their stacks: with
+/// a tree far larger than the caches most visits wait for memory, and the prefetch overlaps that
+/// wait with the nearer children's visits; small trees only pay the extra instructions. Measured on
+/// the wide BVH (`appel bench TARGET --accel bvh --embree --threads 1`, alternating runs): 10^6
+/// scattered triangles (51 MB) 20-27% faster on incoherent rays and 3-5% on camera rays, the 10M
+/// city (534 MB) 3-4% and 5-8%; the ogre (6.9 MB) within noise; the bunny (3.9 MB) 3% slower on
+/// camera rays (session 4).
+pub(crate) const PREFETCH_BYTES: usize = 16 << 20;
+
+/// Asks for the cache lines of `bytes` bytes at `p` to be brought into the cache. Never faults.
+#[inline(always)]
+pub(crate) fn prefetch<T>(p: *const T, bytes: usize) {
+    #[cfg(target_arch = "x86_64")]
+    for line in (0..bytes).step_by(64) {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // SAFETY: `_mm_prefetch` is part of SSE (every x86_64) and does not fault, whatever the
+        // address.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>().wrapping_add(line)) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (p, bytes);
+}
+
 /// Whether the CPU has AVX2, detected once: the wide BVH and the kd-tree pick their traversal by it.
 #[cfg(target_arch = "x86_64")]
 pub(crate) fn has_avx2() -> bool {

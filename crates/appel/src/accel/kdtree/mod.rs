@@ -88,6 +88,8 @@ pub struct KdTree {
     root: Option<wide::Cell>,
     /// Nodes of the binary tree (interior and leaves), as built.
     binary_nodes: usize,
+    /// Whether traversal prefetches the cells it pushes ([`crate::accel::PREFETCH_BYTES`]).
+    prefetch: bool,
     /// Leaf triangles in SIMD blocks of four; a leaf's blocks are consecutive.
     blocks: Vec<TriBlock>,
     /// Leaf references: each primitive counted once per leaf that holds it.
@@ -158,6 +160,7 @@ impl KdTree {
             ..Default::default()
         };
         tree.binary_nodes = b.nodes.len();
+        tree.prefetch = tree.stats.bytes > crate::accel::PREFETCH_BYTES;
         tree.nodes = nodes;
         tree.blocks = b.blocks;
         tree.refs = b.refs;

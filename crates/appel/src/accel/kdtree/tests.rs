@@ -181,7 +181,14 @@ fn cells_follow_the_planes_of_three_levels() {
     let n = &kd.nodes[0];
     let r = Ray::new(Vec3::new(-3.0, -0.75, -0.75), Vec3::X);
     let (mut near, mut far) = ([0.0; 8], [0.0; 8]);
-    let mask = cells_portable(n, &RayPlanes::new(&r), 0.0, 10.0, &mut near, &mut far);
+    let mask = cells_portable(
+        n,
+        &RayPlanes::new(r.origin.to_array(), r.dir.recip().to_array()),
+        0.0,
+        10.0,
+        &mut near,
+        &mut far,
+    );
     assert!(mask != 0);
     // The crossed cells are disjoint and tile the ray's span in order.
     let mut spans: Vec<(f32, f32)> = (0..8)
@@ -195,7 +202,7 @@ fn cells_follow_the_planes_of_three_levels() {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
         let (mut n2, mut f2) = ([0.0; 8], [0.0; 8]);
-        let planes = RayPlanes::new(&r);
+        let planes = RayPlanes::new(r.origin.to_array(), r.dir.recip().to_array());
         // SAFETY: the CPU has AVX2.
         let m2 = unsafe { super::wide::cells_avx2(n, &planes, 0.0, 10.0, &mut n2, &mut f2) };
         assert_eq!(m2, mask);

@@ -11,7 +11,8 @@
 //! operations lane by lane.
 
 use super::wide::{self, Cell, RayPlanes};
-use super::{KdTree, WIDE_STACK};
+use super::{KdNode8, KdTree, WIDE_STACK};
+use crate::accel::bvh::TriBlock;
 use crate::accel::bvh::{far_scale, test_blocks, RayBox, RayTri};
 use crate::accel::{Hit, Primitives, TraversalStats};
 use crate::math::{Ray, Vec3};
@@ -32,6 +33,20 @@ struct Waiting {
 }
 
 impl KdTree {
+    /// Asks for a crossed cell's node, or its leaf's first two blocks, to be brought into the
+    /// cache while the nearer cells are visited ([`crate::accel::PREFETCH_BYTES`]).
+    #[inline(always)]
+    fn prefetch_cell(&self, cell: Cell) {
+        if wide::is_leaf(cell) {
+            let (first, _) = wide::leaf_range(cell);
+            let at = self.blocks.as_ptr().wrapping_add(first);
+            crate::accel::prefetch(at, 2 * std::mem::size_of::<TriBlock>());
+        } else {
+            let at = self.nodes.as_ptr().wrapping_add(cell as usize);
+            crate::accel::prefetch(at, std::mem::size_of::<KdNode8>());
+        }
+    }
+
     #[inline(always)]
     pub(super) fn traverse<P: Primitives, const ANY: bool>(
         &self,
@@ -76,7 +91,7 @@ impl KdTree {
         let (mut t0, mut t1) =
             self.bounds
                 .slab_intersect(ray, Vec3::from(rb.inv), t_max * far_scale())?;
-        let planes = RayPlanes::new(ray);
+        let planes = RayPlanes::new(rb.o, rb.inv);
         let rt = RayTri::new(ray);
         let mut stack = [const { MaybeUninit::<Waiting>::uninit() }; WIDE_STACK];
         let mut sp = 0usize;
@@ -122,6 +137,9 @@ impl KdTree {
                             t0: near[c],
                             t1: far[c],
                         };
+                        if self.prefetch {
+                            self.prefetch_cell(e.cell);
+                        }
                         if ANY {
                             // Any hit ends the query, so the order does not matter, and no cell
                             // beyond `t_max` was taken (measured: shadow rays 10% faster on the

@@ -12,7 +12,6 @@
 //! does (pbrt's `KdTreeAccel::Intersect`, Pharr et al. 2016, section 4.4.4).
 
 use super::node::KdNode;
-use crate::math::Ray;
 
 /// A cell's child: a node index, or a leaf (`LEAF` set, the primitive count in bits 32-61, the
 /// first triangle block in the low 32 bits). Empty cells are left out of [`KdNode8::occupied`].
@@ -138,11 +137,11 @@ pub struct RayPlanes {
 }
 
 impl RayPlanes {
-    pub fn new(ray: &Ray) -> Self {
-        let (o, inv) = (ray.origin, ray.dir.recip());
+    /// From the ray's origin and reciprocal direction (already computed for the root's slab test).
+    pub fn new(o: [f32; 3], inv: [f32; 3]) -> Self {
         Self {
-            o: [o.x, o.y, o.z, 0.0, 0.0, 0.0, 0.0, 0.0],
-            inv: [inv.x, inv.y, inv.z, 1.0, 1.0, 1.0, 1.0, 1.0],
+            o: [o[0], o[1], o[2], 0.0, 0.0, 0.0, 0.0, 0.0],
+            inv: [inv[0], inv[1], inv[2], 1.0, 1.0, 1.0, 1.0, 1.0],
         }
     }
 }

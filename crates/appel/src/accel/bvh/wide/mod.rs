@@ -38,15 +38,9 @@ pub struct WideBvh<const W: usize> {
     /// Traversal's common case: a 128-entry stack suffices and the leaves hold triangle blocks
     /// (decided once here rather than at every ray).
     common: bool,
-    /// Whether traversal prefetches the children it pushes: for trees much larger than the caches.
+    /// Whether traversal prefetches the children it pushes ([`crate::accel::PREFETCH_BYTES`]).
     prefetch: bool,
 }
-
-/// Trees of more bytes than this prefetch the children they push. Measured (`appel bench TARGET
-/// --accel bvh --embree --threads 1`, alternating runs): 10^6 scattered triangles (51 MB) 20-27%
-/// faster on incoherent rays and 3-5% on camera rays, the 10M-triangle city (534 MB) 3-4% and 5-8%;
-/// the ogre (6.9 MB) within noise; the bunny (3.9 MB) 3% slower on camera rays in session 4.
-const PREFETCH_BYTES: usize = 16 << 20;
 
 /// A leaf's primitives before their vertices are gathered: a range of the binary tree's index array.
 struct LeafRange {
@@ -261,7 +255,7 @@ impl<const W: usize> WideBvh<W> {
             + blocks.len() * std::mem::size_of::<TriBlock>();
         Self {
             common: traverse::stack_need::<W>(c.depth) <= 128 && ids.is_empty(),
-            prefetch: bytes > PREFETCH_BYTES,
+            prefetch: bytes > crate::accel::PREFETCH_BYTES,
             nodes: c.nodes,
             blocks,
             ids,

@@ -353,37 +353,18 @@ impl<const W: usize> WideBvh<W> {
         }
     }
 
-    /// Asks for a waiting child's node (or its leaf's first blocks) to be brought into the cache
-    /// while the nearer children are visited: in trees far larger than the caches most node visits
-    /// wait for memory.
+    /// Asks for a waiting child's node (or its leaf's first two blocks: most leaves hold up to
+    /// eight triangles) to be brought into the cache while the nearer children are visited.
     #[inline(always)]
     fn prefetch_child(&self, child: Child) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-            let (p, bytes) = if node::is_leaf(child) {
-                let (first, _) = node::leaf_range(child);
-                // Two blocks: most leaves hold up to eight triangles.
-                (
-                    self.blocks.as_ptr().wrapping_add(first).cast::<i8>(),
-                    2 * std::mem::size_of::<TriBlock>(),
-                )
-            } else {
-                (
-                    self.nodes
-                        .as_ptr()
-                        .wrapping_add(child as usize)
-                        .cast::<i8>(),
-                    std::mem::size_of::<WideNode<W>>(),
-                )
-            };
-            for line in (0..bytes).step_by(64) {
-                // SAFETY: `_mm_prefetch` is part of SSE (every x86_64) and does not fault.
-                unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(line)) };
-            }
+        if node::is_leaf(child) {
+            let (first, _) = node::leaf_range(child);
+            let at = self.blocks.as_ptr().wrapping_add(first);
+            crate::accel::prefetch(at, 2 * std::mem::size_of::<TriBlock>());
+        } else {
+            let at = self.nodes.as_ptr().wrapping_add(child as usize);
+            crate::accel::prefetch(at, std::mem::size_of::<WideNode<W>>());
         }
-        #[cfg(not(target_arch = "x86_64"))]
-        let _ = child;
     }
 
     /// Picks a stack just large enough for the tree's depth. Compact leaves take the other
