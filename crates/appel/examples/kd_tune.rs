@@ -142,13 +142,19 @@ fn main() {
             for r in &rays.incoherent {
                 accel.intersect(g, r, f32::INFINITY, &mut t);
             }
+            let mut ts = TraversalStats::default();
+            for s in &rays.shadow {
+                accel.occluded(g, &s.ray, s.t_max, &mut ts);
+            }
             let st = accel.stats();
             println!(
-                "{name:<32} {:>10} B d{:2} inc n/t {:5.1} {:5.1}  cam {c:6.2} inc {i:6.3} shadow {s:6.3}  bvh/this {:.2} {:.2} {:.2}",
+                "{name:<32} {:>10} B d{:2} inc n/t {:5.1} {:5.1} shadow n/t {:5.1} {:5.1}  cam {c:6.2} inc {i:6.3} shadow {s:6.3}  bvh/this {:.2} {:.2} {:.2}",
                 st.bytes,
                 st.depth,
                 t.nodes_visited as f64 / t.rays as f64,
                 t.prim_tests as f64 / t.rays as f64,
+                ts.nodes_visited as f64 / ts.rays as f64,
+                ts.prim_tests as f64 / ts.rays as f64,
                 bc / c,
                 bi / i,
                 bs / s

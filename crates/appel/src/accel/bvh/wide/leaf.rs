@@ -22,7 +22,7 @@ pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
     best: &mut Option<Hit>,
     mut seen: impl FnMut(u32) -> bool,
 ) {
-    let mut vals = LaneValues::default();
+    let mut vals = LaneValues::new();
     let mut at = 0;
     while at < blocks.len() {
         // Two blocks per AVX filter where the leaf has them.
@@ -55,7 +55,8 @@ pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
                 continue;
             }
             let h = match b.triangle(lane) {
-                Some(tri) => finish(&vals, bit, tri, ray, *t_max),
+                // SAFETY: the filter run into `vals` just kept lane `bit`.
+                Some(tri) => unsafe { finish(&vals, bit, tri, ray, *t_max) },
                 None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max),
             };
             if let Some(h) = h {
