@@ -126,7 +126,8 @@ impl WideBvh<8> {
         let near = [neg[0], 2 + neg[1], 4 + neg[2]];
         let far_row = [1 - neg[0], 3 - neg[1], 5 - neg[2]];
         let far = far_scale();
-        let fs = splat(far);
+        // The far planes' reciprocals carry the Ize scale, as in the single-ray `RayBoxes`.
+        let ivf = iv.map(|x| mul(x, splat(far)));
         let mut t_max_of = [t_max; PACKET];
         let mut t_cull = [t_max * far; PACKET];
         let mut best: [Option<Hit>; PACKET] = [None; PACKET];
@@ -178,7 +179,7 @@ impl WideBvh<8> {
                         let lo = splat(nd.bounds[near[a]][c]);
                         let hi = splat(nd.bounds[far_row[a]][c]);
                         t0 = max(mul(sub(lo, ov[a]), iv[a]), t0);
-                        t1 = min(mul(mul(sub(hi, ov[a]), iv[a]), fs), t1);
+                        t1 = min(mul(sub(hi, ov[a]), ivf[a]), t1);
                     }
                     let m = mask(le(t0, t1)) & active;
                     if m != 0 {
