@@ -464,8 +464,29 @@ impl<const W: usize> WideBvh<W> {
                 if mask != 0 {
                     // `& (W - 1)`: the mask has `W` bits; it lets the compiler drop index checks.
                     let first = mask.trailing_zeros() as usize & (W - 1);
-                    if mask & (mask - 1) == 0 {
+                    let rest = mask & (mask - 1);
+                    if rest == 0 {
                         cur = n.child[first];
+                        continue;
+                    }
+                    if !ANY && rest & (rest - 1) == 0 {
+                        // Two children: the farther waits, the nearer is visited
+                        // next (on a tie the later lane, as the sort below orders them).
+                        let second = rest.trailing_zeros() as usize & (W - 1);
+                        let (near, far) = if dist[first] < dist[second] {
+                            (first, second)
+                        } else {
+                            (second, first)
+                        };
+                        stack[sp] = MaybeUninit::new(Entry {
+                            child: n.child[far],
+                            t: dist[far],
+                        });
+                        sp += 1;
+                        if self.prefetch {
+                            self.prefetch_child(n.child[far]);
+                        }
+                        cur = n.child[near];
                         continue;
                     }
                     // Push every child hit, then, for a closest hit, order the pushed run so the
