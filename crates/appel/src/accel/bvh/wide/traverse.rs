@@ -455,6 +455,27 @@ impl<const W: usize> WideBvh<W> {
         let mut best = None;
         let mut dist = [0.0f32; W];
         let mut cur: Child = start;
+        // Pushes the children of node `$n` in `$mask`, in lane order, with their entry distances;
+        // in large trees it asks for each to be brought into the cache meanwhile. (A macro: as an
+        // inlined method taking the stack and its pointer, the traversal took 2-5% more
+        // instructions per ray.)
+        macro_rules! push_children {
+            ($n:expr, $mask:expr) => {{
+                let mut m: u32 = $mask;
+                while m != 0 {
+                    let lane = m.trailing_zeros() as usize & (W - 1);
+                    m &= m - 1;
+                    stack[sp] = MaybeUninit::new(Entry {
+                        child: $n.child[lane],
+                        t: dist[lane],
+                    });
+                    sp += 1;
+                    if self.prefetch {
+                        self.prefetch_child($n.child[lane]);
+                    }
+                }
+            }};
+        }
         loop {
             if !node::is_leaf(cur) {
                 // SAFETY: child slots hold indices of nodes the collapse wrote.
@@ -478,51 +499,37 @@ impl<const W: usize> WideBvh<W> {
                         } else {
                             (second, first)
                         };
-                        stack[sp] = MaybeUninit::new(Entry {
-                            child: n.child[far],
-                            t: dist[far],
-                        });
-                        sp += 1;
-                        if self.prefetch {
-                            self.prefetch_child(n.child[far]);
-                        }
+                        push_children!(n, 1 << far);
                         cur = n.child[near];
                         continue;
                     }
-                    // Push every child hit, then, for a closest hit, order the pushed run so the
-                    // nearest is on top. Any hit at all ends an any-hit query, so it skips the sort
-                    // (measured: shadow rays 7-8% faster on the ogre and a 1.3M-triangle mesh).
-                    let base = sp;
-                    let mut m = mask;
-                    while m != 0 {
-                        let lane = m.trailing_zeros() as usize & (W - 1);
-                        m &= m - 1;
-                        stack[sp] = MaybeUninit::new(Entry {
-                            child: n.child[lane],
-                            t: dist[lane],
-                        });
-                        sp += 1;
-                        if self.prefetch {
-                            self.prefetch_child(n.child[lane]);
-                        }
+                    if ANY {
+                        // Any hit at all ends an any-hit query, so the children go unsorted
+                        // (measured: shadow rays 7-8% faster on the ogre and a 1.3M-triangle
+                        // mesh): the last one hit is visited next, the others wait.
+                        let last = (31 - mask.leading_zeros()) as usize & (W - 1);
+                        push_children!(n, mask & !(1 << last));
+                        cur = n.child[last];
+                        continue;
                     }
-                    if !ANY {
-                        // SAFETY: entries `base..sp` were just written.
-                        let run = unsafe {
-                            std::slice::from_raw_parts_mut(
-                                stack.as_mut_ptr().add(base).cast::<Entry>(),
-                                sp - base,
-                            )
-                        };
-                        for i in 1..run.len() {
-                            let e = run[i];
-                            let mut j = i;
-                            while j > 0 && run[j - 1].t < e.t {
-                                run[j] = run[j - 1];
-                                j -= 1;
-                            }
-                            run[j] = e;
+                    // Push every child hit, then order the pushed run so the nearest is on top.
+                    let base = sp;
+                    push_children!(n, mask);
+                    // SAFETY: entries `base..sp` were just written.
+                    let run = unsafe {
+                        std::slice::from_raw_parts_mut(
+                            stack.as_mut_ptr().add(base).cast::<Entry>(),
+                            sp - base,
+                        )
+                    };
+                    for i in 1..run.len() {
+                        let e = run[i];
+                        let mut j = i;
+                        while j > 0 && run[j - 1].t < e.t {
+                            run[j] = run[j - 1];
+                            j -= 1;
                         }
+                        run[j] = e;
                     }
                     sp -= 1;
                     // SAFETY: entry `sp` was written above.
