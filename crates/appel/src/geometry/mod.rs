@@ -39,6 +39,19 @@ pub struct PrimHit {
     pub sub: u32,
 }
 
+impl PrimHit {
+    /// What an any-hit (shadow ray) test reports for a hit: only that there is one, before `t_max`.
+    #[inline]
+    pub fn any_hit(t_max: f32) -> Self {
+        Self {
+            t: t_max,
+            u: 0.0,
+            v: 0.0,
+            sub: 0,
+        }
+    }
+}
+
 /// The local geometry at a hit point.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceInteraction {

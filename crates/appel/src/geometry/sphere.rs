@@ -1,5 +1,5 @@
 use super::{PrimHit, SurfaceInteraction};
-use crate::math::{gamma, Aabb, Ray, Vec2, Vec3};
+use crate::math::{gamma, Aabb, Ray, RayF64, Vec2, Vec3};
 use glam::DVec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,10 +26,16 @@ impl Sphere {
     /// offset from the centre to the closest point on the line), which does not cancel catastrophically
     /// for rays far from a small sphere, and the stable quadratic formula (Press et al.).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<PrimHit> {
-        let o = ray.origin.as_dvec3() - self.center.as_dvec3();
-        let d = ray.dir.as_dvec3();
+        self.intersect_f64(&RayF64::new(ray), t_max)
+    }
+
+    /// [`Self::intersect`] of a ray already converted to f64 (the same result).
+    #[inline]
+    pub fn intersect_f64(&self, ray: &RayF64, t_max: f32) -> Option<PrimHit> {
+        let o = ray.origin - self.center.as_dvec3();
+        let d = ray.dir;
         let r = self.radius as f64;
-        let a = d.length_squared();
+        let a = ray.dir_length_squared;
         if a == 0.0 {
             return None;
         }

@@ -1,12 +1,12 @@
 //! All the surfaces of a scene, flattened into one list of primitives for the acceleration structure.
 
 use super::instance::{Instance, Prototype};
-use crate::accel::{Hit, Primitives};
+use crate::accel::{closest_of, test_primitive, Hit, Primitives};
 use crate::geometry::{
     triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SurfaceInteraction,
     Torus, TriangleMesh, TriangleTest,
 };
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{Aabb, Ray, RayF64, Vec3};
 
 /// One surface: a `[[shape]]` of the scene file, or one part of a mesh file's `[[shape]]`.
 #[derive(Clone, Debug)]
@@ -145,6 +145,17 @@ impl PrimRefs {
     }
 }
 
+/// A one-primitive shape as a leaf tests it: spheres and rectangles stored by value, in primitive
+/// order, so that a leaf's tests need neither the primitive's reference nor its shape (the shapes'
+/// `kind` sits in a much larger struct), and share one conversion of the ray to f64.
+#[derive(Clone, Copy, Debug)]
+enum Analytic {
+    Sphere(Sphere),
+    Rectangle(Plane),
+    /// Any other one-primitive shape (implicit surfaces, tori): tested through its shape.
+    Other,
+}
+
 /// Everything that can be hit.
 #[derive(Clone, Debug, Default)]
 pub struct Geometry {
@@ -162,6 +173,8 @@ pub struct Geometry {
     pub prototypes: Vec<Prototype>,
     /// Placements of prototypes, numbered in file order: the `instanceid` AOV.
     pub instances: Vec<Instance>,
+    /// The one-primitive shapes, indexed as `prims` numbers them (they come first).
+    analytic: Vec<Analytic>,
 }
 
 /// A closest hit in the scene.
@@ -194,11 +207,10 @@ impl Geometry {
     pub fn push(&mut self, kind: ShapeKind, material: u32) -> u32 {
         let id = self.shapes.len() as u32;
         match &kind {
-            ShapeKind::Sphere(_) | ShapeKind::Implicit(_) | ShapeKind::Torus(_) => {
-                self.prims.push_single(id)
-            }
+            ShapeKind::Sphere(s) => self.push_single(id, Analytic::Sphere(*s)),
+            ShapeKind::Implicit(_) | ShapeKind::Torus(_) => self.push_single(id, Analytic::Other),
             ShapeKind::Plane(p) if p.half_size.is_none() => self.unbounded.push(id),
-            ShapeKind::Plane(_) => self.prims.push_single(id),
+            ShapeKind::Plane(p) => self.push_single(id, Analytic::Rectangle(*p)),
             ShapeKind::Mesh(m) => {
                 let n = self.meshes[*m as usize].triangle_count() as u32;
                 self.prims.push_run(id, 0, n);
@@ -214,6 +226,11 @@ impl Geometry {
             },
         });
         id
+    }
+
+    fn push_single(&mut self, shape: u32, analytic: Analytic) {
+        self.prims.push_single(shape);
+        self.analytic.push(analytic);
     }
 
     /// The `shapeid` and `primid` a hit reports: its `[[shape]]` (for an instance, its `[[instance]]`
@@ -494,6 +511,27 @@ impl Primitives for Geometry {
     fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit> {
         let r = self.prims.get(i);
         self.intersect_shape(r.shape, r.index, ray, t_max)
+    }
+
+    /// Spheres and rectangles straight from their table, from one f64 ray: in a scene of a few
+    /// such shapes (one leaf), the way to each test cost about as much as the test.
+    #[inline(always)]
+    fn intersect_ids<const ANY: bool>(
+        &self,
+        ids: impl IntoIterator<Item = u32>,
+        ray: &Ray,
+        t_max: &mut f32,
+    ) -> Option<Hit> {
+        let r = RayF64::new(ray);
+        closest_of::<ANY>(ids, t_max, |id, t_max| {
+            let h = match self.analytic.get(id as usize) {
+                Some(Analytic::Sphere(s)) => s.intersect_f64(&r, t_max),
+                Some(Analytic::Rectangle(p)) => p.intersect_f64(&r, t_max),
+                _ => return test_primitive::<Self, ANY>(self, id as usize, ray, t_max),
+            };
+            // An any-hit query reports what `test_primitive` would.
+            h.map(|h| if ANY { PrimHit::any_hit(t_max) } else { h })
+        })
     }
 
     fn clip_overlaps(&self, i: usize, cell: &Aabb) -> bool {
