@@ -74,6 +74,15 @@ pub trait Primitives: Sync {
             test_primitive::<Self, ANY>(self, id as usize, ray, t_max)
         })
     }
+    /// [`Self::intersect_ids`] of every primitive, in an order of the set's choosing (the hit is
+    /// the same but for ties in `t`): what a structure that is a single leaf asks.
+    #[inline(always)]
+    fn intersect_all<const ANY: bool>(&self, ray: &Ray, t_max: &mut f32) -> Option<Hit>
+    where
+        Self: Sized,
+    {
+        self.intersect_ids::<ANY>(0..self.count() as u32, ray, t_max)
+    }
 }
 
 /// The loop of [`Primitives::intersect_ids`]: `test(id, t_max)` of each id in turn, keeping the

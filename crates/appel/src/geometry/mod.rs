@@ -20,7 +20,7 @@ pub use instance_transform::InstanceTransform;
 pub use mesh::TriangleMesh;
 pub use overlap::triangle_box_overlap;
 pub use plane::Plane;
-pub use sphere::Sphere;
+pub use sphere::{Sphere, SphereBlock};
 pub use torus::Torus;
 pub use transform::ObjectTransform;
 pub use triangle::TriangleTest;

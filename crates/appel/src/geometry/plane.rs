@@ -63,7 +63,7 @@ impl Plane {
     }
 
     /// [`Self::intersect`] of a ray already converted to f64 (the same result).
-    #[inline]
+    #[inline(always)]
     pub fn intersect_f64(&self, ray: &RayF64, t_max: f32) -> Option<PrimHit> {
         let n = self.normal.as_dvec3();
         let denom = n.dot(ray.dir);

@@ -3,8 +3,8 @@
 use super::instance::{Instance, Prototype};
 use crate::accel::{closest_of, test_primitive, Hit, Primitives};
 use crate::geometry::{
-    triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SurfaceInteraction,
-    Torus, TriangleMesh, TriangleTest,
+    triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SphereBlock,
+    SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
 };
 use crate::math::{Aabb, Ray, RayF64, Vec3};
 
@@ -175,6 +175,10 @@ pub struct Geometry {
     pub instances: Vec<Instance>,
     /// The one-primitive shapes, indexed as `prims` numbers them (they come first).
     analytic: Vec<Analytic>,
+    /// The spheres among them, four to a block, for [`Primitives::intersect_all`]...
+    sphere_blocks: Vec<SphereBlock>,
+    /// ...and the ids of the others.
+    not_spheres: Vec<u32>,
 }
 
 /// A closest hit in the scene.
@@ -229,8 +233,39 @@ impl Geometry {
     }
 
     fn push_single(&mut self, shape: u32, analytic: Analytic) {
+        let id = self.analytic.len() as u32;
         self.prims.push_single(shape);
         self.analytic.push(analytic);
+        match analytic {
+            Analytic::Sphere(s) => {
+                if !self.sphere_blocks.last_mut().is_some_and(|b| b.push(s, id)) {
+                    let mut b = SphereBlock::default();
+                    b.push(s, id);
+                    self.sphere_blocks.push(b);
+                }
+            }
+            _ => self.not_spheres.push(id),
+        }
+    }
+
+    /// [`Primitives::intersect_ids`] with the ray already in f64.
+    #[inline(always)]
+    fn intersect_ids_f64<const ANY: bool>(
+        &self,
+        ids: impl IntoIterator<Item = u32>,
+        ray: &Ray,
+        r: &RayF64,
+        t_max: &mut f32,
+    ) -> Option<Hit> {
+        closest_of::<ANY>(ids, t_max, |id, t_max| {
+            let h = match self.analytic.get(id as usize) {
+                Some(Analytic::Sphere(s)) => s.intersect_f64(r, t_max),
+                Some(Analytic::Rectangle(p)) => p.intersect_f64(r, t_max),
+                _ => return test_primitive::<Self, ANY>(self, id as usize, ray, t_max),
+            };
+            // An any-hit query reports what `test_primitive` would.
+            h.map(|h| if ANY { PrimHit::any_hit(t_max) } else { h })
+        })
     }
 
     /// The `shapeid` and `primid` a hit reports: its `[[shape]]` (for an instance, its `[[instance]]`
@@ -522,16 +557,32 @@ impl Primitives for Geometry {
         ray: &Ray,
         t_max: &mut f32,
     ) -> Option<Hit> {
+        self.intersect_ids_f64::<ANY>(ids, ray, &RayF64::new(ray), t_max)
+    }
+
+    /// The spheres by blocks ([`SphereBlock`]), then the other primitives one by one.
+    #[inline(always)]
+    fn intersect_all<const ANY: bool>(&self, ray: &Ray, t_max: &mut f32) -> Option<Hit> {
         let r = RayF64::new(ray);
-        closest_of::<ANY>(ids, t_max, |id, t_max| {
-            let h = match self.analytic.get(id as usize) {
-                Some(Analytic::Sphere(s)) => s.intersect_f64(&r, t_max),
-                Some(Analytic::Rectangle(p)) => p.intersect_f64(&r, t_max),
-                _ => return test_primitive::<Self, ANY>(self, id as usize, ray, t_max),
-            };
-            // An any-hit query reports what `test_primitive` would.
-            h.map(|h| if ANY { PrimHit::any_hit(t_max) } else { h })
-        })
+        let mut best = None;
+        for block in &self.sphere_blocks {
+            let mut lanes = block.candidates(&r);
+            while lanes != 0 {
+                let (sphere, id) = block.get(lanes.trailing_zeros() as usize);
+                lanes &= lanes - 1;
+                if let Some(h) = sphere.intersect_f64(&r, *t_max) {
+                    if ANY {
+                        return Some(Hit::new(id as usize, PrimHit::any_hit(*t_max)));
+                    }
+                    *t_max = h.t;
+                    best = Some(Hit::new(id as usize, h));
+                }
+            }
+        }
+        let runs = self.analytic.len() as u32..self.prims.len() as u32;
+        let others = self.not_spheres.iter().copied().chain(runs);
+        self.intersect_ids_f64::<ANY>(others, ray, &r, t_max)
+            .or(best)
     }
 
     fn clip_overlaps(&self, i: usize, cell: &Aabb) -> bool {
