@@ -261,11 +261,18 @@ impl Geometry {
             let h = match self.analytic.get(id as usize) {
                 Some(Analytic::Sphere(s)) => s.intersect_f64(r, t_max),
                 Some(Analytic::Rectangle(p)) => p.intersect_f64(r, t_max),
-                _ => return test_primitive::<Self, ANY>(self, id as usize, ray, t_max),
+                _ => return self.test_other::<ANY>(id, ray, t_max),
             };
             // An any-hit query reports what `test_primitive` would.
             h.map(|h| if ANY { PrimHit::any_hit(t_max) } else { h })
         })
+    }
+
+    /// The primitives without a table entry, out of line: inlined, the dispatch over every kind
+    /// of shape kept the compiler from inlining the table's tests into the leaf loop.
+    #[inline(never)]
+    fn test_other<const ANY: bool>(&self, id: u32, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+        test_primitive::<Self, ANY>(self, id as usize, ray, t_max)
     }
 
     /// The `shapeid` and `primid` a hit reports: its `[[shape]]` (for an instance, its `[[instance]]`
