@@ -175,10 +175,12 @@ pub struct Geometry {
     pub instances: Vec<Instance>,
     /// The one-primitive shapes, indexed as `prims` numbers them (they come first).
     analytic: Vec<Analytic>,
-    /// The spheres among them, four to a block, for [`Primitives::intersect_all`]...
+    /// The spheres among them, two to a block, for [`Primitives::intersect_all`]...
     sphere_blocks: Vec<SphereBlock>,
+    /// ...the rectangles with their ids...
+    rectangles: Vec<(Plane, u32)>,
     /// ...and the ids of the others.
-    not_spheres: Vec<u32>,
+    others: Vec<u32>,
 }
 
 /// A closest hit in the scene.
@@ -244,7 +246,8 @@ impl Geometry {
                     self.sphere_blocks.push(b);
                 }
             }
-            _ => self.not_spheres.push(id),
+            Analytic::Rectangle(p) => self.rectangles.push((p, id)),
+            Analytic::Other => self.others.push(id),
         }
     }
 
@@ -509,6 +512,19 @@ impl Geometry {
     }
 }
 
+/// Makes hit `h` of primitive `id` the nearest so far (for an any-hit query, the stand-in that
+/// [`test_primitive`] reports); `true` when an any-hit query has its answer.
+#[inline(always)]
+fn record<const ANY: bool>(best: &mut Option<Hit>, t_max: &mut f32, id: u32, h: PrimHit) -> bool {
+    if ANY {
+        *best = Some(Hit::new(id as usize, PrimHit::any_hit(*t_max)));
+        return true;
+    }
+    *t_max = h.t;
+    *best = Some(Hit::new(id as usize, h));
+    false
+}
+
 impl Primitives for Geometry {
     fn count(&self) -> usize {
         self.prims.len()
@@ -567,7 +583,8 @@ impl Primitives for Geometry {
         self.intersect_ids_f64::<ANY>(ids, ray, &RayF64::new(ray), t_max)
     }
 
-    /// The spheres by blocks ([`SphereBlock`]), then the other primitives one by one.
+    /// The spheres by blocks ([`SphereBlock`]), then the rectangles, each from one f64 ray and
+    /// without a per-primitive dispatch, then the other primitives one by one.
     #[inline(always)]
     fn intersect_all<const ANY: bool>(&self, ray: &Ray, t_max: &mut f32) -> Option<Hit> {
         let r = RayF64::new(ray);
@@ -578,16 +595,21 @@ impl Primitives for Geometry {
                 let (sphere, id) = block.get(lanes.trailing_zeros() as usize);
                 lanes &= lanes - 1;
                 if let Some(h) = sphere.intersect_f64(&r, *t_max) {
-                    if ANY {
-                        return Some(Hit::new(id as usize, PrimHit::any_hit(*t_max)));
+                    if record::<ANY>(&mut best, t_max, id, h) {
+                        return best;
                     }
-                    *t_max = h.t;
-                    best = Some(Hit::new(id as usize, h));
+                }
+            }
+        }
+        for (rectangle, id) in &self.rectangles {
+            if let Some(h) = rectangle.intersect_f64(&r, *t_max) {
+                if record::<ANY>(&mut best, t_max, *id, h) {
+                    return best;
                 }
             }
         }
         let runs = self.analytic.len() as u32..self.prims.len() as u32;
-        let others = self.not_spheres.iter().copied().chain(runs);
+        let others = self.others.iter().copied().chain(runs);
         self.intersect_ids_f64::<ANY>(others, ray, &r, t_max)
             .or(best)
     }
@@ -617,7 +639,58 @@ impl Primitives for Geometry {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::testutil::{mesh, soup};
+    use crate::accel::testutil::{mesh, rays, soup};
+    use crate::math::{offset_ray_origin, Vec2};
+
+    /// `intersect_all` (spheres two at a time, rectangles, then the rest) finds what testing each
+    /// primitive in turn finds: the same primitive at the same `t` for closest hits, and the same
+    /// answer for any-hit queries, on rays from everywhere, from inside spheres and leaving their
+    /// surfaces, and with `t_max` limits.
+    #[test]
+    fn intersect_all_finds_the_hits_of_one_by_one() {
+        let mut g = Geometry::new(TriangleTest::Watertight);
+        for i in 0..5 {
+            let c = Vec3::new(i as f32 * 0.9 - 1.8, 0.3 * i as f32 - 0.6, 0.2);
+            g.push(ShapeKind::Sphere(Sphere::new(c, 0.2 + 0.1 * i as f32)), 0);
+        }
+        let floor = Plane::rectangle(-Vec3::Y, Vec3::Y, Some(Vec2::new(4.0, 3.0)));
+        let tilted = Plane::rectangle(-Vec3::Z, Vec3::new(0.2, 0.1, 1.0), Some(Vec2::ONE));
+        g.push(ShapeKind::Plane(floor), 0);
+        g.push(ShapeKind::Torus(Torus::new(Vec3::X, 0.5, 0.1, Vec3::Y)), 0);
+        g.push(ShapeKind::Plane(tilted), 0);
+        g.push_mesh(soup(30, 3), 0);
+        let mut tested = rays(3000, 11);
+        // Rays leaving sphere surfaces, to either side, as secondary rays do.
+        for (i, ray) in tested.clone().iter().enumerate() {
+            let mut t = f32::INFINITY;
+            if let Some(h) = g.intersect_all::<false>(ray, &mut t) {
+                let si = g.interaction(ray, &g.scene_hit(h));
+                let w = if i % 2 == 0 { si.n } else { -si.n } + 0.5 * ray.dir;
+                tested.push(Ray::new(offset_ray_origin(si.p, si.p_error, si.n, w), w));
+            }
+        }
+        let mut hits = 0;
+        for (i, ray) in tested.iter().enumerate() {
+            let limit = if i % 3 == 0 { 1.5 } else { f32::INFINITY };
+            let one_by_one = |t_max: &mut f32| {
+                closest_of::<false>(0..g.count() as u32, t_max, |id, t| {
+                    g.intersect(id as usize, ray, t)
+                })
+            };
+            let (mut t_all, mut t_one) = (limit, limit);
+            let all = g.intersect_all::<false>(ray, &mut t_all);
+            let one = one_by_one(&mut t_one);
+            let key = |h: Option<Hit>| h.map(|h| (h.prim, h.t.to_bits()));
+            assert_eq!(key(all), key(one), "ray {i}: {ray:?}");
+            let mut t_any = limit;
+            assert_eq!(
+                g.intersect_all::<true>(ray, &mut t_any).is_some(),
+                one.is_some()
+            );
+            hits += one.is_some() as usize;
+        }
+        assert!(hits > tested.len() / 4, "{hits} of {}", tested.len());
+    }
 
     /// Shapes of one primitive come first, then each mesh as a run, in the order pushed; every
     /// primitive maps to its shape and index, and the runs cost bytes per shape, not per triangle.
