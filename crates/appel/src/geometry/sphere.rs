@@ -193,7 +193,7 @@ impl SphereBlock {
         let o2 = x * x + y * y + z * z;
         let a = splat(ray.dir_length_squared);
         let miss = misses_early(a, half_b, o2, F64x2::new(self.r));
-        miss.not().bits() & ((1 << self.len) - 1)
+        (!miss).bits() & ((1 << self.len) - 1)
     }
 }
 

@@ -2,7 +2,7 @@
 //! Each operation is the IEEE operation on each lane (no fused multiply-add), so a lane computes
 //! bit for bit what scalar code with the same operations computes.
 
-use std::ops::{Add, BitAnd, BitOr, Mul, Sub};
+use std::ops::{Add, BitAnd, BitOr, Mul, Not, Sub};
 
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
@@ -51,8 +51,13 @@ impl Mask2 {
     pub fn bits(self) -> u32 {
         unsafe { _mm_movemask_pd(self.0 .0) as u32 }
     }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Not for Mask2 {
+    type Output = Self;
     #[inline(always)]
-    pub fn not(self) -> Self {
+    fn not(self) -> Self {
         // All bits set is a NaN, so the constant comes from the integer side.
         unsafe {
             let ones = _mm_castsi128_pd(_mm_set1_epi32(-1));
@@ -137,7 +142,11 @@ mod portable {
         pub fn bits(self) -> u32 {
             self.lane(0) as u32 | (self.lane(1) as u32) << 1
         }
-        pub fn not(self) -> Self {
+    }
+
+    impl Not for Mask2 {
+        type Output = Self;
+        fn not(self) -> Self {
             mask(|k| !self.lane(k))
         }
     }
@@ -242,7 +251,7 @@ mod tests {
         assert_eq!(x.lt(y).bits(), 0b00);
         assert_eq!(x.gt(y).bits(), 0b01);
         assert_eq!(x.ge(F64x2::splat(-0.0)).bits(), 0b11);
-        assert_eq!(x.gt(y).not().bits(), 0b10);
+        assert_eq!((!x.gt(y)).bits(), 0b10);
         assert_eq!((x.gt(y) | x.lt(y)).bits(), 0b01);
         assert_eq!((x.gt(y) & x.lt(y)).bits(), 0b00);
     }
