@@ -79,6 +79,54 @@ pub trait Primitives: Sync {
         let _ = i;
         None
     }
+    /// The closest hit among primitives `ids` in `(0, t_max)`, narrowing `t_max` at each nearer
+    /// hit; with `ANY`, the first hit found (as [`test_primitive`] reports it). Structures ask this
+    /// for a leaf of called-back primitives. The default tests them one by one; a set of
+    /// primitives may override it to share per-ray work between the tests, with the same result.
+    #[inline(always)]
+    fn intersect_ids<const ANY: bool>(
+        &self,
+        ids: impl IntoIterator<Item = u32>,
+        ray: &Ray,
+        t_max: &mut f32,
+    ) -> Option<Hit>
+    where
+        Self: Sized,
+    {
+        closest_of::<ANY>(ids, t_max, |id, t_max| {
+            test_primitive::<Self, ANY>(self, id as usize, ray, t_max)
+        })
+    }
+    /// [`Self::intersect_ids`] of every primitive, in an order of the set's choosing (the hit is
+    /// the same but for ties in `t`): what a structure that is a single leaf asks.
+    #[inline(always)]
+    fn intersect_all<const ANY: bool>(&self, ray: &Ray, t_max: &mut f32) -> Option<Hit>
+    where
+        Self: Sized,
+    {
+        self.intersect_ids::<ANY>(0..self.count() as u32, ray, t_max)
+    }
+}
+
+/// The loop of [`Primitives::intersect_ids`]: `test(id, t_max)` of each id in turn, keeping the
+/// nearest hit (with `ANY`, stopping at the first).
+#[inline(always)]
+pub(crate) fn closest_of<const ANY: bool>(
+    ids: impl IntoIterator<Item = u32>,
+    t_max: &mut f32,
+    mut test: impl FnMut(u32, f32) -> Option<PrimHit>,
+) -> Option<Hit> {
+    let mut best = None;
+    for id in ids {
+        if let Some(h) = test(id, *t_max) {
+            best = Some(Hit::new(id as usize, h));
+            if ANY {
+                break;
+            }
+            *t_max = h.t;
+        }
+    }
+    best
 }
 
 /// A structure's test of one primitive: its closest hit, or in an any-hit query (`ANY`) a stand-in
@@ -92,12 +140,9 @@ pub(crate) fn test_primitive<P: Primitives, const ANY: bool>(
     t_max: f32,
 ) -> Option<PrimHit> {
     if ANY {
-        prims.occluded(i, ray, t_max).then_some(PrimHit {
-            t: t_max,
-            u: 0.0,
-            v: 0.0,
-            sub: 0,
-        })
+        prims
+            .occluded(i, ray, t_max)
+            .then_some(PrimHit::any_hit(t_max))
     } else {
         prims.intersect(i, ray, t_max)
     }

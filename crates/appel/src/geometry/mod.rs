@@ -20,7 +20,7 @@ pub use instance_transform::InstanceTransform;
 pub use mesh::TriangleMesh;
 pub use overlap::triangle_box_overlap;
 pub use plane::Plane;
-pub use sphere::Sphere;
+pub use sphere::{Sphere, SphereBlock};
 pub use torus::Torus;
 pub use transform::ObjectTransform;
 pub use triangle::TriangleTest;
@@ -37,6 +37,19 @@ pub struct PrimHit {
     /// The primitive hit inside a nested structure (a mesh instance's own triangles); 0 for a plain
     /// surface.
     pub sub: u32,
+}
+
+impl PrimHit {
+    /// What an any-hit (shadow ray) test reports for a hit: only that there is one, before `t_max`.
+    #[inline]
+    pub fn any_hit(t_max: f32) -> Self {
+        Self {
+            t: t_max,
+            u: 0.0,
+            v: 0.0,
+            sub: 0,
+        }
+    }
 }
 
 /// The local geometry at a hit point.

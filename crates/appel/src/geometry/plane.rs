@@ -1,5 +1,5 @@
 use super::{PrimHit, SurfaceInteraction};
-use crate::math::{gamma, Aabb, Ray, Vec2, Vec3};
+use crate::math::{gamma, Aabb, Ray, RayF64, Vec2, Vec3};
 
 /// The plane `dot(normal, p) = offset`, infinite or limited to a rectangle centred on `point`.
 /// Infinite planes have no finite bounds, so they stay outside the acceleration structures and are
@@ -59,12 +59,18 @@ impl Plane {
     /// Computed in f64 so that the hit parameter is accurate to f32 precision even for an origin far
     /// from the plane and a grazing direction.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+        self.intersect_f64(&RayF64::new(ray), t_max)
+    }
+
+    /// [`Self::intersect`] of a ray already converted to f64 (the same result).
+    #[inline(always)]
+    pub fn intersect_f64(&self, ray: &RayF64, t_max: f32) -> Option<PrimHit> {
         let n = self.normal.as_dvec3();
-        let denom = n.dot(ray.dir.as_dvec3());
+        let denom = n.dot(ray.dir);
         if denom == 0.0 {
             return None;
         }
-        let num = self.offset as f64 - n.dot(ray.origin.as_dvec3());
+        let num = self.offset as f64 - n.dot(ray.origin);
         // `t = num / denom` is positive only when both have the same sign: the division (and the
         // rectangle test) is skipped for rays leaving the plane's side, with the same answer.
         if num == 0.0 || (num < 0.0) != (denom < 0.0) {
@@ -77,7 +83,7 @@ impl Plane {
             return None;
         }
         if let Some(h) = self.half_size {
-            let local = ray.origin.as_dvec3() + t * ray.dir.as_dvec3() - self.point.as_dvec3();
+            let local = ray.origin + t * ray.dir - self.point.as_dvec3();
             if local.dot(self.tangent.as_dvec3()).abs() > h.x as f64
                 || local.dot(self.bitangent.as_dvec3()).abs() > h.y as f64
             {

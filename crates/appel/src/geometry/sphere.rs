@@ -1,8 +1,8 @@
 use super::{PrimHit, SurfaceInteraction};
-use crate::math::{gamma, Aabb, Ray, Vec2, Vec3};
+use crate::math::{gamma, Aabb, F64x2, Lanes, Ray, RayF64, Vec2, Vec3};
 use glam::DVec3;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Sphere {
     pub center: Vec3,
     pub radius: f32,
@@ -26,31 +26,23 @@ impl Sphere {
     /// offset from the centre to the closest point on the line), which does not cancel catastrophically
     /// for rays far from a small sphere, and the stable quadratic formula (Press et al.).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<PrimHit> {
-        let o = ray.origin.as_dvec3() - self.center.as_dvec3();
-        let d = ray.dir.as_dvec3();
+        self.intersect_f64(&RayF64::new(ray), t_max)
+    }
+
+    /// [`Self::intersect`] of a ray already converted to f64 (the same result).
+    #[inline(always)]
+    pub fn intersect_f64(&self, ray: &RayF64, t_max: f32) -> Option<PrimHit> {
+        let o = ray.origin - self.center.as_dvec3();
+        let d = ray.dir;
         let r = self.radius as f64;
-        let a = d.length_squared();
+        let a = ray.dir_length_squared;
         if a == 0.0 {
             return None;
         }
         let half_b = o.dot(d);
         let o2 = o.length_squared();
         let c = o2 - r * r;
-        // Two early-outs that return exactly what the solve below would, without its division and
-        // square root (most tests in a scene of a few spheres are misses):
-        // - An origin outside the sphere (`c > 0`) with the ray pointing away (`half_b >= 0`): both
-        //   roots are <= 0 (their product `c / a` is positive, their sum `-2 half_b / a` is not), and
-        //   the solve computes them as such (`q <= 0`, so `c / q < 0` and `q / a <= 0`).
-        // - The textbook discriminant `half_b^2 - a c` equals `a (r^2 - |l|^2)` in exact arithmetic.
-        //   Both are computed with a rounding error of a few f64 ulps of `S = half_b^2 + a |o|^2 +
-        //   a r^2` (Goldberg 1991; Haines et al., Ray Tracing Gems ch. 7, on why the textbook form
-        //   cancels), so when it is below `-1e-9 S`, far beyond that error, the robust form below is
-        //   negative too and the ray misses. Near-tangent rays fall through to the robust form.
-        if c > 0.0 && half_b >= 0.0 {
-            return None;
-        }
-        let scale = half_b * half_b + a * (o2 + r * r);
-        if half_b * half_b - a * c < -1e-9 * scale {
+        if misses_early(a, half_b, o2, r) {
             return None;
         }
         let l = o - (half_b / a) * d;
@@ -126,6 +118,82 @@ impl Sphere {
             ns: n,
             uv,
         }
+    }
+}
+
+/// Two early-outs of [`Sphere::intersect`] (from `a = |d|^2`, `half_b = o.d`, `o2 = |o|^2` with
+/// `o` the origin's offset from the centre, and the radius `r`) that return exactly what its solve
+/// would, without its division and square root (most tests in a scene of a few spheres are misses):
+/// - An origin outside the sphere (`c = o2 - r^2 > 0`) with the ray pointing away (`half_b >= 0`):
+///   both roots are <= 0 (their product `c / a` is positive, their sum `-2 half_b / a` is not), and
+///   the solve computes them as such (`q <= 0`, so `c / q < 0` and `q / a <= 0`).
+/// - The textbook discriminant `half_b^2 - a c` equals `a (r^2 - |l|^2)` in exact arithmetic. Both
+///   are computed with a rounding error of a few f64 ulps of `S = half_b^2 + a |o|^2 + a r^2`
+///   (Goldberg 1991; Haines et al., Ray Tracing Gems ch. 7, on why the textbook form cancels), so
+///   when it is below `-1e-9 S`, far beyond that error, the robust form is negative too and the ray
+///   misses. Near-tangent rays fall through to the robust form.
+///
+/// Written once for a scalar and for [`SphereBlock`]'s lanes, without branches (`&`, `|` on the
+/// comparisons: the answer is that of the short-circuit form).
+#[inline(always)]
+fn misses_early<T: Lanes>(a: T, half_b: T, o2: T, r: T) -> T::Mask {
+    let c = o2 - r * r;
+    let scale = half_b * half_b + a * (o2 + r * r);
+    (c.gt(T::splat(0.0)) & half_b.ge(T::splat(0.0)))
+        | (half_b * half_b - a * c).lt(T::splat(-1e-9) * scale)
+}
+
+/// Two spheres in f64, structure of arrays: a ray is tested against both at once by the
+/// early-outs of [`Sphere::intersect`] (where most tests end), in the same operations on two
+/// lanes ([`F64x2`]); only the spheres that pass need the full solve ([`Sphere::intersect_f64`]
+/// of [`SphereBlock::get`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SphereBlock {
+    cx: [f64; 2],
+    cy: [f64; 2],
+    cz: [f64; 2],
+    r: [f64; 2],
+    spheres: [Sphere; 2],
+    ids: [u32; 2],
+    len: usize,
+}
+
+impl SphereBlock {
+    /// Adds `sphere`, to be reported as primitive `id`; `false` if the block is full.
+    pub fn push(&mut self, sphere: Sphere, id: u32) -> bool {
+        let k = self.len;
+        if k == 2 {
+            return false;
+        }
+        let c = sphere.center.as_dvec3();
+        (self.cx[k], self.cy[k], self.cz[k]) = (c.x, c.y, c.z);
+        self.r[k] = sphere.radius as f64;
+        self.spheres[k] = sphere;
+        self.ids[k] = id;
+        self.len += 1;
+        true
+    }
+
+    /// Sphere `k` and its primitive id.
+    #[inline(always)]
+    pub fn get(&self, k: usize) -> (&Sphere, u32) {
+        (&self.spheres[k], self.ids[k])
+    }
+
+    /// Bit `k` set for each sphere `k` that the early-outs of [`Sphere::intersect`] do not rule out.
+    #[inline(always)]
+    pub fn candidates(&self, ray: &RayF64) -> u32 {
+        let (o, d) = (ray.origin, ray.dir);
+        let splat = F64x2::splat;
+        // `o - c`, `o.d` and `|o|^2` as `DVec3` computes them (x, then y, then z).
+        let x = splat(o.x) - F64x2::new(self.cx);
+        let y = splat(o.y) - F64x2::new(self.cy);
+        let z = splat(o.z) - F64x2::new(self.cz);
+        let half_b = x * splat(d.x) + y * splat(d.y) + z * splat(d.z);
+        let o2 = x * x + y * y + z * z;
+        let a = splat(ray.dir_length_squared);
+        let miss = misses_early(a, half_b, o2, F64x2::new(self.r));
+        (!miss).bits() & ((1 << self.len) - 1)
     }
 }
 

@@ -1,13 +1,15 @@
 //! Vectors, rays, bounding boxes and floating-point error bounds.
 
 mod aabb;
+mod f64x2;
 mod float;
 mod ray;
 
 pub use aabb::Aabb;
+pub use f64x2::{F64x2, Lanes, Mask2};
 pub use float::{gamma, offset_ray_origin};
 pub use glam::{Vec2, Vec3};
-pub use ray::Ray;
+pub use ray::{Ray, RayF64};
 
 /// An orthonormal basis (`s`, `t`, `n`) around a unit vector `n` (Duff et al. 2017, "Building an
 /// orthonormal basis, revisited"): branch-free and continuous except at the sign flip of `n.z`.

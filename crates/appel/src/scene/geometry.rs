@@ -1,12 +1,12 @@
 //! All the surfaces of a scene, flattened into one list of primitives for the acceleration structure.
 
 use super::instance::{Instance, Prototype};
-use crate::accel::{Hit, Primitives};
+use crate::accel::{closest_of, test_primitive, Hit, Primitives};
 use crate::geometry::{
-    triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SurfaceInteraction,
-    Torus, TriangleMesh, TriangleTest,
+    triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SphereBlock,
+    SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
 };
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{Aabb, Ray, RayF64, Vec3};
 
 /// One surface: a `[[shape]]` of the scene file, or one part of a mesh file's `[[shape]]`.
 #[derive(Clone, Debug)]
@@ -145,6 +145,17 @@ impl PrimRefs {
     }
 }
 
+/// A one-primitive shape as a leaf tests it: spheres and rectangles stored by value, in primitive
+/// order, so that a leaf's tests need neither the primitive's reference nor its shape (the shapes'
+/// `kind` sits in a much larger struct), and share one conversion of the ray to f64.
+#[derive(Clone, Copy, Debug)]
+enum Analytic {
+    Sphere(Sphere),
+    Rectangle(Plane),
+    /// Any other one-primitive shape (implicit surfaces, tori): tested through its shape.
+    Other,
+}
+
 /// Everything that can be hit.
 #[derive(Clone, Debug, Default)]
 pub struct Geometry {
@@ -162,6 +173,14 @@ pub struct Geometry {
     pub prototypes: Vec<Prototype>,
     /// Placements of prototypes, numbered in file order: the `instanceid` AOV.
     pub instances: Vec<Instance>,
+    /// The one-primitive shapes, indexed as `prims` numbers them (they come first).
+    analytic: Vec<Analytic>,
+    /// The spheres among them, two to a block, for [`Primitives::intersect_all`]...
+    sphere_blocks: Vec<SphereBlock>,
+    /// ...the rectangles with their ids...
+    rectangles: Vec<(Plane, u32)>,
+    /// ...and the ids of the others.
+    others: Vec<u32>,
 }
 
 /// A closest hit in the scene.
@@ -194,11 +213,10 @@ impl Geometry {
     pub fn push(&mut self, kind: ShapeKind, material: u32) -> u32 {
         let id = self.shapes.len() as u32;
         match &kind {
-            ShapeKind::Sphere(_) | ShapeKind::Implicit(_) | ShapeKind::Torus(_) => {
-                self.prims.push_single(id)
-            }
+            ShapeKind::Sphere(s) => self.push_single(id, Analytic::Sphere(*s)),
+            ShapeKind::Implicit(_) | ShapeKind::Torus(_) => self.push_single(id, Analytic::Other),
             ShapeKind::Plane(p) if p.half_size.is_none() => self.unbounded.push(id),
-            ShapeKind::Plane(_) => self.prims.push_single(id),
+            ShapeKind::Plane(p) => self.push_single(id, Analytic::Rectangle(*p)),
             ShapeKind::Mesh(m) => {
                 let n = self.meshes[*m as usize].triangle_count() as u32;
                 self.prims.push_run(id, 0, n);
@@ -214,6 +232,50 @@ impl Geometry {
             },
         });
         id
+    }
+
+    fn push_single(&mut self, shape: u32, analytic: Analytic) {
+        let id = self.analytic.len() as u32;
+        self.prims.push_single(shape);
+        self.analytic.push(analytic);
+        match analytic {
+            Analytic::Sphere(s) => {
+                if !self.sphere_blocks.last_mut().is_some_and(|b| b.push(s, id)) {
+                    let mut b = SphereBlock::default();
+                    b.push(s, id);
+                    self.sphere_blocks.push(b);
+                }
+            }
+            Analytic::Rectangle(p) => self.rectangles.push((p, id)),
+            Analytic::Other => self.others.push(id),
+        }
+    }
+
+    /// [`Primitives::intersect_ids`] with the ray already in f64.
+    #[inline(always)]
+    fn intersect_ids_f64<const ANY: bool>(
+        &self,
+        ids: impl IntoIterator<Item = u32>,
+        ray: &Ray,
+        r: &RayF64,
+        t_max: &mut f32,
+    ) -> Option<Hit> {
+        closest_of::<ANY>(ids, t_max, |id, t_max| {
+            let h = match self.analytic.get(id as usize) {
+                Some(Analytic::Sphere(s)) => s.intersect_f64(r, t_max),
+                Some(Analytic::Rectangle(p)) => p.intersect_f64(r, t_max),
+                _ => return self.test_other::<ANY>(id, ray, t_max),
+            };
+            // An any-hit query reports what `test_primitive` would.
+            h.map(|h| if ANY { PrimHit::any_hit(t_max) } else { h })
+        })
+    }
+
+    /// The primitives without a table entry, out of line: inlined, the dispatch over every kind
+    /// of shape kept the compiler from inlining the table's tests into the leaf loop.
+    #[inline(never)]
+    fn test_other<const ANY: bool>(&self, id: u32, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+        test_primitive::<Self, ANY>(self, id as usize, ray, t_max)
     }
 
     /// The `shapeid` and `primid` a hit reports: its `[[shape]]` (for an instance, its `[[instance]]`
@@ -450,6 +512,19 @@ impl Geometry {
     }
 }
 
+/// Makes hit `h` of primitive `id` the nearest so far (for an any-hit query, the stand-in that
+/// [`test_primitive`] reports); `true` when an any-hit query has its answer.
+#[inline(always)]
+fn record<const ANY: bool>(best: &mut Option<Hit>, t_max: &mut f32, id: u32, h: PrimHit) -> bool {
+    if ANY {
+        *best = Some(Hit::new(id as usize, PrimHit::any_hit(*t_max)));
+        return true;
+    }
+    *t_max = h.t;
+    *best = Some(Hit::new(id as usize, h));
+    false
+}
+
 impl Primitives for Geometry {
     fn count(&self) -> usize {
         self.prims.len()
@@ -496,6 +571,49 @@ impl Primitives for Geometry {
         self.intersect_shape(r.shape, r.index, ray, t_max)
     }
 
+    /// Spheres and rectangles straight from their table, from one f64 ray: in a scene of a few
+    /// such shapes (one leaf), the way to each test cost about as much as the test.
+    #[inline(always)]
+    fn intersect_ids<const ANY: bool>(
+        &self,
+        ids: impl IntoIterator<Item = u32>,
+        ray: &Ray,
+        t_max: &mut f32,
+    ) -> Option<Hit> {
+        self.intersect_ids_f64::<ANY>(ids, ray, &RayF64::new(ray), t_max)
+    }
+
+    /// The spheres by blocks ([`SphereBlock`]), then the rectangles, each from one f64 ray and
+    /// without a per-primitive dispatch, then the other primitives one by one.
+    #[inline(always)]
+    fn intersect_all<const ANY: bool>(&self, ray: &Ray, t_max: &mut f32) -> Option<Hit> {
+        let r = RayF64::new(ray);
+        let mut best = None;
+        for block in &self.sphere_blocks {
+            let mut lanes = block.candidates(&r);
+            while lanes != 0 {
+                let (sphere, id) = block.get(lanes.trailing_zeros() as usize);
+                lanes &= lanes - 1;
+                if let Some(h) = sphere.intersect_f64(&r, *t_max) {
+                    if record::<ANY>(&mut best, t_max, id, h) {
+                        return best;
+                    }
+                }
+            }
+        }
+        for (rectangle, id) in &self.rectangles {
+            if let Some(h) = rectangle.intersect_f64(&r, *t_max) {
+                if record::<ANY>(&mut best, t_max, *id, h) {
+                    return best;
+                }
+            }
+        }
+        let runs = self.analytic.len() as u32..self.prims.len() as u32;
+        let others = self.others.iter().copied().chain(runs);
+        self.intersect_ids_f64::<ANY>(others, ray, &r, t_max)
+            .or(best)
+    }
+
     fn clip_overlaps(&self, i: usize, cell: &Aabb) -> bool {
         let r = self.prims.get(i);
         match &self.shapes[r.shape as usize].kind {
@@ -521,7 +639,58 @@ impl Primitives for Geometry {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::testutil::{mesh, soup};
+    use crate::accel::testutil::{mesh, rays, soup};
+    use crate::math::{offset_ray_origin, Vec2};
+
+    /// `intersect_all` (spheres two at a time, rectangles, then the rest) finds what testing each
+    /// primitive in turn finds: the same primitive at the same `t` for closest hits, and the same
+    /// answer for any-hit queries, on rays from everywhere, from inside spheres and leaving their
+    /// surfaces, and with `t_max` limits.
+    #[test]
+    fn intersect_all_finds_the_hits_of_one_by_one() {
+        let mut g = Geometry::new(TriangleTest::Watertight);
+        for i in 0..5 {
+            let c = Vec3::new(i as f32 * 0.9 - 1.8, 0.3 * i as f32 - 0.6, 0.2);
+            g.push(ShapeKind::Sphere(Sphere::new(c, 0.2 + 0.1 * i as f32)), 0);
+        }
+        let floor = Plane::rectangle(-Vec3::Y, Vec3::Y, Some(Vec2::new(4.0, 3.0)));
+        let tilted = Plane::rectangle(-Vec3::Z, Vec3::new(0.2, 0.1, 1.0), Some(Vec2::ONE));
+        g.push(ShapeKind::Plane(floor), 0);
+        g.push(ShapeKind::Torus(Torus::new(Vec3::X, 0.5, 0.1, Vec3::Y)), 0);
+        g.push(ShapeKind::Plane(tilted), 0);
+        g.push_mesh(soup(30, 3), 0);
+        let mut tested = rays(3000, 11);
+        // Rays leaving sphere surfaces, to either side, as secondary rays do.
+        for (i, ray) in tested.clone().iter().enumerate() {
+            let mut t = f32::INFINITY;
+            if let Some(h) = g.intersect_all::<false>(ray, &mut t) {
+                let si = g.interaction(ray, &g.scene_hit(h));
+                let w = if i % 2 == 0 { si.n } else { -si.n } + 0.5 * ray.dir;
+                tested.push(Ray::new(offset_ray_origin(si.p, si.p_error, si.n, w), w));
+            }
+        }
+        let mut hits = 0;
+        for (i, ray) in tested.iter().enumerate() {
+            let limit = if i % 3 == 0 { 1.5 } else { f32::INFINITY };
+            let one_by_one = |t_max: &mut f32| {
+                closest_of::<false>(0..g.count() as u32, t_max, |id, t| {
+                    g.intersect(id as usize, ray, t)
+                })
+            };
+            let (mut t_all, mut t_one) = (limit, limit);
+            let all = g.intersect_all::<false>(ray, &mut t_all);
+            let one = one_by_one(&mut t_one);
+            let key = |h: Option<Hit>| h.map(|h| (h.prim, h.t.to_bits()));
+            assert_eq!(key(all), key(one), "ray {i}: {ray:?}");
+            let mut t_any = limit;
+            assert_eq!(
+                g.intersect_all::<true>(ray, &mut t_any).is_some(),
+                one.is_some()
+            );
+            hits += one.is_some() as usize;
+        }
+        assert!(hits > tested.len() / 4, "{hits} of {}", tested.len());
+    }
 
     /// Shapes of one primitive come first, then each mesh as a run, in the order pushed; every
     /// primitive maps to its shape and index, and the runs cost bytes per shape, not per triangle.

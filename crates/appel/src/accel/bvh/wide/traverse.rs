@@ -202,23 +202,18 @@ impl<const W: usize> WideBvh<W> {
         mut t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
-        let mut best = None;
         if leaf & node::NO_TRIANGLES != 0 {
             // Spheres, rectangles and the like: a loop of calls, kept apart from the triangle
             // filter's set-up, whose registers and stack frame would otherwise be paid for on every
             // ray (Whitted's scene: 145M of 1,110M instructions per frame were this function).
             let (first, count) = node::leaf_range(leaf);
             stats.prim_tests += count as u64;
-            for &id in self.blocks[first..].iter().flat_map(|b| &b.id).take(count) {
-                if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, t_max) {
-                    best = Some(Hit::new(id as usize, h));
-                    if ANY {
-                        break;
-                    }
-                    t_max = h.t;
-                }
+            if count == prims.count() {
+                // The leaf holds every primitive: the set may know a faster way to test them all.
+                return prims.intersect_all::<ANY>(ray, &mut t_max);
             }
-            return best;
+            let ids = self.blocks[first..].iter().flat_map(|b| b.id).take(count);
+            return prims.intersect_ids::<ANY>(ids, ray, &mut t_max);
         }
         self.root_leaf_triangles::<P, ANY>(leaf, prims, ray, t_max, stats)
     }
@@ -275,14 +270,9 @@ impl<const W: usize> WideBvh<W> {
         }
         // Spheres, implicit surfaces, instances: no filter, every primitive called back.
         // The ids in order, without an index check per primitive.
-        for &id in blocks.iter().flat_map(|b| &b.id).take(count) {
-            if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, *t_max) {
-                *best = Some(Hit::new(id as usize, h));
-                if ANY {
-                    return;
-                }
-                *t_max = h.t;
-            }
+        let ids = blocks.iter().flat_map(|b| b.id).take(count);
+        if let Some(h) = prims.intersect_ids::<ANY>(ids, ray, t_max) {
+            *best = Some(h);
         }
     }
 
