@@ -654,19 +654,20 @@ fn sah_bins<const B: usize>(
         scale: Vec4::new(scale[0], scale[1], scale[2], 0.0),
         top: Vec4::splat((nb - 1) as f32),
     };
-    let bins = if n > PARALLEL_SCAN {
-        idx.par_chunks(PARALLEL_SCAN / 4)
+    // Filled where it lies: returning the filled bins from a block copied them (1.7 KB).
+    let mut bins = Bins::<B>::EMPTY;
+    if n > PARALLEL_SCAN {
+        bins = idx
+            .par_chunks(PARALLEL_SCAN / 4)
             .map(|c| {
                 let mut b = Bins::<B>::EMPTY;
                 b.fill(&binner, c);
                 b
             })
-            .reduce(|| Bins::<B>::EMPTY, |x, y| x.merge(&y, nb))
+            .reduce(|| Bins::<B>::EMPTY, |x, y| x.merge(&y, nb));
     } else {
-        let mut b = Bins::<B>::EMPTY;
-        b.fill(&binner, idx);
-        b
-    };
+        bins.fill(&binner, idx);
+    }
 
     // The best plane minimises `n_l A_l + n_r A_r`; the cost proper (divided by the node's area) is
     // formed once, for the winner, and so are the winner's bounds (unions are exact, so gathering
@@ -696,7 +697,10 @@ fn sah_bins<const B: usize>(
                 left = left.union(bb[k]);
                 count += bc[k];
                 let rc = right_count[k + 1];
-                if count == 0 || rc == 0 {
+                // A plane after an empty bin splits exactly as the plane before it, which was
+                // measured first and, being no worse, keeps its place: skipping it changes nothing
+                // (a third of the planes of the nodes of 9 to 16, which have a bin each).
+                if bc[k] == 0 || count == 0 || rc == 0 {
                     continue;
                 }
                 let weighted =
@@ -776,13 +780,30 @@ mod tests {
     #[test]
     fn partition_plane_agrees_with_bins() {
         let mut rng = Rng(0x9e37_79b9);
-        let next_up = |x: f32| f32::from_bits(if x >= 0.0 { x.to_bits() + 1 } else { x.to_bits() - 1 });
-        let next_down = |x: f32| f32::from_bits(if x > 0.0 { x.to_bits() - 1 } else { x.to_bits() + 1 });
+        let next_up = |x: f32| {
+            f32::from_bits(if x >= 0.0 {
+                x.to_bits() + 1
+            } else {
+                x.to_bits() - 1
+            })
+        };
+        let next_down = |x: f32| {
+            f32::from_bits(if x > 0.0 {
+                x.to_bits() - 1
+            } else {
+                x.to_bits() + 1
+            })
+        };
         for case in 0..300 {
             let nb = 2 + (rng.next() % 31) as usize;
             let mag = [1e-30f32, 1e-3, 1.0, 1e3, 1e6, 1e20][case % 6];
             let lo = Vec4::new(rng.unit() - 0.5, rng.unit() * 1e4, -rng.unit(), 0.0) * mag;
-            let ext = Vec4::new(rng.unit() + 1e-6, rng.unit() * 1e-3 + 1e-9, rng.unit() * 5.0, 1.0) * mag;
+            let ext = Vec4::new(
+                rng.unit() + 1e-6,
+                rng.unit() * 1e-3 + 1e-9,
+                rng.unit() * 5.0,
+                1.0,
+            ) * mag;
             let binner = Binner {
                 lo,
                 scale: (Vec4::splat(nb as f32) / ext).with_w(0.0),
@@ -793,7 +814,13 @@ mod tests {
                     let t = binner.plane(a, k);
                     let left = |x: f32| !(x >= t);
                     let mut xs = vec![
-                        f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.0, -0.0, f32::MAX, f32::MIN,
+                        f32::NAN,
+                        f32::INFINITY,
+                        f32::NEG_INFINITY,
+                        0.0,
+                        -0.0,
+                        f32::MAX,
+                        f32::MIN,
                     ];
                     if t.is_finite() {
                         xs.extend([t, next_up(t), next_down(t), next_down(next_down(t))]);
@@ -848,7 +875,10 @@ mod tests {
                     0..=4 => sah_bins::<4>(&ctx, &mut prims, rb, nb),
                     _ => sah_bins::<8>(&ctx, &mut prims, rb, nb),
                 };
-                assert!(matches!(binned, Decision::Leaf), "block {block}, {n} primitives");
+                assert!(
+                    matches!(binned, Decision::Leaf),
+                    "block {block}, {n} primitives"
+                );
             }
             // One more primitive than a traversal's worth is binned and may split.
             let ok = ctx.opts.intersect_cost * BlockCount::new(&ctx.opts).of(largest as u32 + 1)
