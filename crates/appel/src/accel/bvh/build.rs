@@ -532,7 +532,7 @@ impl Binner {
     }
 
     /// The plane that sends a centroid left exactly when its bin on axis `a` is at most `k`:
-    /// `t` such that `bin(x, a) <= k` if and only if `!(x >= t)` (NaN counts as bin 0, which
+    /// `t` such that `bin(x, a) <= k` if and only if [`left_of`]`(x, t)` (NaN counts as bin 0, which
     /// `bins` gives it, and goes left). [`Self::bins`] is monotone in `x` (a subtraction, a
     /// multiplication by a non-negative scale, a clamp and a truncation, each non-decreasing), so
     /// such a plane exists: the smallest float whose bin exceeds `k`, found by searching the
@@ -606,6 +606,13 @@ impl Binner {
     }
 }
 
+/// Whether coordinate `x` lies left of `plane` (see [`Binner::plane`]); NaN does, as it is in bin 0.
+#[inline(always)]
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x >= plane)` is meant: true for NaN
+fn left_of(x: f32, plane: f32) -> bool {
+    !(x >= plane)
+}
+
 fn sah(ctx: &Ctx, idx: &mut [BuildPrim], rb: RangeBounds) -> Decision {
     let o = &ctx.opts;
     let n = idx.len();
@@ -676,8 +683,8 @@ fn sah_bins<const B: usize>(
     let blocks = BlockCount::new(o);
     let mut best: Option<(f32, usize, usize)> = None; // (weighted area, axis, last left bin)
     if area > 0.0 {
-        for a in 0..3 {
-            if scale[a] == 0.0 {
+        for (a, &s) in scale.iter().enumerate() {
+            if s == 0.0 {
                 continue;
             }
             let (bb, bc) = (&bins.bounds[a], &bins.counts[a]);
@@ -720,9 +727,9 @@ fn sah_bins<const B: usize>(
         {
             let t = binner.plane(a, k);
             let (mid, [lc, rc]) = match a {
-                0 => partition_par(idx, |p| !(p.centroid().x >= t)),
-                1 => partition_par(idx, |p| !(p.centroid().y >= t)),
-                _ => partition_par(idx, |p| !(p.centroid().z >= t)),
+                0 => partition_par(idx, |p| left_of(p.centroid().x, t)),
+                1 => partition_par(idx, |p| left_of(p.centroid().y, t)),
+                _ => partition_par(idx, |p| left_of(p.centroid().z, t)),
             };
             if mid == 0 || mid == n {
                 median(idx, a)
@@ -812,7 +819,7 @@ mod tests {
             for a in 0..3 {
                 for k in 0..nb - 1 {
                     let t = binner.plane(a, k);
-                    let left = |x: f32| !(x >= t);
+                    let left = |x: f32| left_of(x, t);
                     let mut xs = vec![
                         f32::NAN,
                         f32::INFINITY,
