@@ -88,18 +88,26 @@ impl BuildPrim {
 }
 
 /// `v` with its `w` lane cleared bitwise (never read as a number first). On x86_64 one `andps`
-/// with a constant mask: `truncate().extend(0.0)` went through a scalar `Vec3` and rebuilt the
+/// with a mask held in a register: `truncate().extend(0.0)` went through a scalar `Vec3` and rebuilt the
 /// vector lane by lane, about ten instructions, run once per primitive at every level of the build
 /// (callgrind, 10^6 triangles: 7% of the whole build's instructions).
 #[inline(always)]
 pub(super) fn xyz0(v: Vec4) -> Vec4 {
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::{__m128, _mm_and_ps, _mm_castsi128_ps, _mm_set_epi32};
-        // SAFETY: SSE2 is part of x86_64.
+        use std::arch::x86_64::{__m128, _mm_castsi128_ps, _mm_set_epi32};
+        // SAFETY: SSE2 is part of x86_64; `andps` reads and writes registers only.
         unsafe {
             let mask = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
-            let r: __m128 = _mm_and_ps(v.into(), mask);
+            let mut r: __m128 = v.into();
+            // In assembly, because LLVM turns `_mm_and_ps` with this mask into a shuffle with a
+            // zeroed register, four instructions instead of one in the binning loop (session 6).
+            std::arch::asm!(
+                "andps {r}, {m}",
+                r = inout(xmm_reg) r,
+                m = in(xmm_reg) mask,
+                options(pure, nomem, nostack, preserves_flags)
+            );
             r.into()
         }
     }
