@@ -20,9 +20,18 @@ pub const fn gamma(n: i32) -> f32 {
 /// the result cannot re-hit the surface it starts on (pbrt-v4 `OffsetRayOrigin`).
 #[inline]
 pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
+    offset_ray_origin_to_side(p, p_error, n, w.dot(n) < 0.0)
+}
+
+/// [`offset_ray_origin`] for every `w` with `(w.dot(n) < 0.0) == below`: the result depends on `w`
+/// only through that side, so a shading point computes each of its two possible origins once.
+/// Inlined at each use, so that each kind of ray (shadow, reflected, refracted) has its own branches
+/// in `round_away`, which the predictor then learns separately.
+#[inline(always)]
+pub fn offset_ray_origin_to_side(p: Vec3, p_error: Vec3, n: Vec3, below: bool) -> Vec3 {
     let d = n.abs().dot(p_error);
     let mut offset = d * n;
-    if w.dot(n) < 0.0 {
+    if below {
         offset = -offset;
     }
     let po = p + offset;

@@ -7,7 +7,7 @@ mod ray;
 
 pub use aabb::Aabb;
 pub use f64x2::{F64x2, Lanes, Mask2};
-pub use float::{gamma, offset_ray_origin};
+pub use float::{gamma, offset_ray_origin, offset_ray_origin_to_side};
 pub use glam::{Vec2, Vec3};
 pub use ray::{Ray, RayF64};
 

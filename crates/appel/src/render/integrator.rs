@@ -4,7 +4,7 @@
 use super::optics::{fresnel_dielectric, reflect, refract};
 use super::TraceContext;
 use crate::geometry::SurfaceInteraction;
-use crate::math::{offset_ray_origin, Ray, Vec3};
+use crate::math::{offset_ray_origin_to_side, Ray, Vec3};
 use crate::scene::Material;
 use crate::scene::{Light, Scene, SceneHit};
 
@@ -61,7 +61,15 @@ impl Integrator for Raycast {
         let Some(h) = hit else {
             return scene.background;
         };
-        local_shading(scene, scene.material(&h.hit), &h.si, -ray.dir, ctx)
+        let mut origins = Origins::new(&h.si);
+        shade_locally(
+            scene,
+            scene.material(&h.hit),
+            &h.si,
+            -ray.dir,
+            &mut origins,
+            ctx,
+        )
     }
 }
 
@@ -97,7 +105,8 @@ impl Whitted {
         };
         let m = scene.material(hit);
         let wo = -ray.dir;
-        let mut color = local_shading(scene, m, si, wo, ctx);
+        let mut origins = Origins::new(si);
+        let mut color = shade_locally(scene, m, si, wo, &mut origins, ctx);
         if depth >= self.max_depth || !m.is_specular() {
             return color;
         }
@@ -128,10 +137,12 @@ impl Whitted {
         }
         if kr > 0.0 {
             let dir = reflect(ray.dir, ns);
-            color += kr * self.spawn(scene, si, dir, depth, Bounce::Reflection, ctx);
+            let origin = origins.towards(dir);
+            color += kr * self.spawn(scene, origin, dir, depth, Bounce::Reflection, ctx);
         }
         if let (Some(dir), true) = (refracted, kt > 0.0) {
-            color += kt * self.spawn(scene, si, dir, depth, Bounce::Refraction, ctx);
+            let origin = origins.towards(dir);
+            color += kt * self.spawn(scene, origin, dir, depth, Bounce::Refraction, ctx);
         }
         color
     }
@@ -139,7 +150,7 @@ impl Whitted {
     fn spawn(
         &self,
         scene: &Scene,
-        si: &SurfaceInteraction,
+        origin: Vec3,
         dir: Vec3,
         depth: u32,
         kind: Bounce,
@@ -149,7 +160,7 @@ impl Whitted {
             Bounce::Reflection => ctx.rays.reflection += 1,
             Bounce::Refraction => ctx.rays.refraction += 1,
         }
-        let ray = Ray::new(offset_ray_origin(si.p, si.p_error, si.n, dir), dir);
+        let ray = Ray::new(origin, dir);
         let hit = scene
             .intersect(&ray, f32::INFINITY, &mut ctx.traversal)
             .map(|h| surface_hit(scene, &ray, h));
@@ -164,6 +175,50 @@ pub fn local_shading(
     m: &Material,
     si: &SurfaceInteraction,
     wo: Vec3,
+    ctx: &mut TraceContext,
+) -> Vec3 {
+    shade_locally(scene, m, si, wo, &mut Origins::new(si), ctx)
+}
+
+/// The origins of the rays leaving one shading point: [`crate::math::offset_ray_origin`] depends on
+/// the direction only through the side of the surface it points to, so each side's origin is
+/// computed at most once and shared by the shadow rays and the reflected and refracted rays.
+struct Origins<'a> {
+    si: &'a SurfaceInteraction,
+    above: Option<Vec3>,
+    below: Option<Vec3>,
+}
+
+impl<'a> Origins<'a> {
+    #[inline]
+    fn new(si: &'a SurfaceInteraction) -> Self {
+        Self {
+            si,
+            above: None,
+            below: None,
+        }
+    }
+
+    /// `offset_ray_origin(si.p, si.p_error, si.n, w)`, the same value.
+    #[inline]
+    fn towards(&mut self, w: Vec3) -> Vec3 {
+        let si = self.si;
+        let below = w.dot(si.n) < 0.0;
+        let slot = if below {
+            &mut self.below
+        } else {
+            &mut self.above
+        };
+        *slot.get_or_insert_with(|| offset_ray_origin_to_side(si.p, si.p_error, si.n, below))
+    }
+}
+
+fn shade_locally(
+    scene: &Scene,
+    m: &Material,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    origins: &mut Origins,
     ctx: &mut TraceContext,
 ) -> Vec3 {
     let albedo = m.albedo(si.uv);
@@ -198,7 +253,7 @@ pub fn local_shading(
         if cos <= 0.0 || si.n.dot(wi) * si.n.dot(wo) <= 0.0 {
             continue;
         }
-        let origin = offset_ray_origin(si.p, si.p_error, si.n, wi);
+        let origin = origins.towards(wi);
         let (shadow_ray, t_max) = match target {
             Some(position) => (Ray::new(origin, position - origin), 1.0 - SHADOW_EPSILON),
             None => (Ray::new(origin, wi), f32::INFINITY),
