@@ -14,11 +14,11 @@ Arguments after `--` go to every `appel bench` call.
 """
 
 import argparse
-import json
 import statistics
-import subprocess
 import sys
 from pathlib import Path
+
+from appel_json import DEFAULT_APPEL, bench_rows, split_extra
 
 # (column, key in the JSON): rates are Appel / Embree (above 1: Appel faster), the build is
 # Appel's time / Embree's (below 1: Appel faster).
@@ -32,29 +32,20 @@ COLUMNS = [
 
 
 def bench(appel, target, extra):
-    cmd = [appel, "bench", target, "--accel", "bvh", "--embree", "--json"] + extra
-    out = subprocess.run(cmd, capture_output=True, text=True)
-    if out.returncode != 0:
-        sys.exit(f"{' '.join(cmd)} failed:\n{out.stderr}")
-    rows = [json.loads(l) for l in out.stdout.splitlines() if l.strip()]
+    rows = bench_rows(appel, target, "bvh", extra)
     bvh = next(r for r in rows if r["accel"] == "bvh")
     emb = next(r for r in rows if r["accel"].startswith("embree"))
     return {key: bvh[key] / emb[key] for _, key in COLUMNS}
 
 
 def main():
-    argv = sys.argv[1:]
-    extra = []
-    if "--" in argv:
-        extra = argv[argv.index("--") + 1 :]
-        argv = argv[: argv.index("--")]
+    argv, extra = split_extra(sys.argv[1:])
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("targets", nargs="+")
     ap.add_argument("--repeat", type=int, default=5)
-    root = Path(__file__).resolve().parent.parent
     ap.add_argument(
         "--appel",
-        default=str(root / "target" / "release" / "appel"),
+        default=DEFAULT_APPEL,
         help="comma-separated appel binaries, alternated run by run",
     )
     args = ap.parse_args(argv)

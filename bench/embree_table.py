@@ -11,35 +11,24 @@ Arguments after `--` go to every `appel bench` call.
 """
 
 import argparse
-import json
-import subprocess
 import sys
 from pathlib import Path
 
+from appel_json import DEFAULT_APPEL, bench_rows, split_extra
+
 
 def run(appel, target, accel, threads, extra):
-    cmd = [appel, "bench", target, "--accel", accel, "--embree", "--json"] + extra
-    if threads:
-        cmd += ["--threads", str(threads)]
-    out = subprocess.run(cmd, capture_output=True, text=True)
-    if out.returncode != 0:
-        sys.exit(f"{' '.join(cmd)} failed:\n{out.stderr}")
-    return [json.loads(line) for line in out.stdout.splitlines() if line.strip()]
+    return bench_rows(appel, target, accel, extra + (["--threads", str(threads)] if threads else []))
 
 
 def main():
-    argv = sys.argv[1:]
-    extra = []
-    if "--" in argv:
-        extra = argv[argv.index("--") + 1 :]
-        argv = argv[: argv.index("--")]
+    argv, extra = split_extra(sys.argv[1:])
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("targets", nargs="+")
     ap.add_argument("--accel", default="kdtree,bvh")
     ap.add_argument("--threads", type=int, default=0, help="threads of the Nt columns (default: all)")
     ap.add_argument("--one-thread", action="store_true", help="report the 1-thread figures")
-    root = Path(__file__).resolve().parent.parent
-    ap.add_argument("--appel", default=str(root / "target" / "release" / "appel"))
+    ap.add_argument("--appel", default=DEFAULT_APPEL)
     args = ap.parse_args(argv)
     suffix = "_1t" if args.one_thread else ""
     print(

@@ -12,35 +12,26 @@ Arguments after `--` go to every `appel bench` call.
 """
 
 import argparse
-import json
 import statistics
-import subprocess
 import sys
 from pathlib import Path
 
+from appel_json import DEFAULT_APPEL, bench_rows, split_extra
+
 
 def main():
-    argv = sys.argv[1:]
-    extra = []
-    if "--" in argv:
-        extra = argv[argv.index("--") + 1 :]
-        argv = argv[: argv.index("--")]
+    argv, extra = split_extra(sys.argv[1:])
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("targets", nargs="+")
     ap.add_argument("--repeat", type=int, default=5)
-    root = Path(__file__).resolve().parent.parent
-    ap.add_argument("--appel", default=str(root / "target" / "release" / "appel"))
+    ap.add_argument("--appel", default=DEFAULT_APPEL)
     args = ap.parse_args(argv)
     print("| target | threads | bvh single | bvh packets of 8 | embree rtcIntersect1 | embree rtcIntersect8 | packets / embree packets | packets / bvh single |")
     print("|---|---|---|---|---|---|---|---|")
     for target in args.targets:
         runs = []
         for _ in range(args.repeat):
-            cmd = [args.appel, "bench", target, "--accel", "bvh", "--embree", "--json"] + extra
-            out = subprocess.run(cmd, capture_output=True, text=True)
-            if out.returncode != 0:
-                sys.exit(f"{' '.join(cmd)} failed:\n{out.stderr}")
-            rows = [json.loads(l) for l in out.stdout.splitlines() if l.strip()]
+            rows = bench_rows(args.appel, target, "bvh", extra)
             bvh = next(r for r in rows if r["accel"] == "bvh")
             emb = next(r for r in rows if r["accel"].startswith("embree"))
             if bvh.get("packet8_mismatches"):
