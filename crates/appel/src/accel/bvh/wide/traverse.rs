@@ -57,8 +57,9 @@ struct Entry {
 /// way: the far distance is scaled by `1 + 2 gamma(3)` (Ize 2013). The scale is folded into the
 /// reciprocal once per ray (`inv_far`) rather than applied at every node: `(b - o) (inv s)`
 /// takes as many roundings as `((b - o) inv) s`, each a factor within `1 +- 2^-24`, so the same
-/// error bound holds, and a node step saves three multiplications. A NaN slab distance (origin on a slab's plane, direction parallel to it) is ignored
-/// by taking it as the first operand of `max`/`min`, which return the second when either is NaN.
+/// error bound holds, and a node step saves three multiplications. A NaN slab distance (origin on
+/// a slab's plane, direction parallel to it) is ignored by taking it as the first operand of
+/// `max`/`min`, which return the second when either is NaN.
 /// Returns the mask of children hit in `[0, t_cull]` and their entry distances.
 #[inline(always)]
 fn slabs<const W: usize, const AVX: bool>(
