@@ -203,6 +203,16 @@ pub fn run(args: RenderArgs) -> Result<()> {
             per_ray(t.nodes_visited),
             per_ray(t.prim_tests)
         );
+        if t.instance_queries > 0 {
+            let per_query = |x: u64| x as f64 / t.instance_queries as f64;
+            eprintln!(
+                "inside instances: {} queries of prototypes' structures, {:.2} nodes visited and \
+                 {:.2} primitive tests per query",
+                t.instance_queries,
+                per_query(t.instance_nodes_visited),
+                per_query(t.instance_prim_tests)
+            );
+        }
     }
     Ok(())
 }

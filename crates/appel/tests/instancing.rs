@@ -111,6 +111,36 @@ fn an_instance_renders_like_the_mesh_with_its_transform_baked_in() {
 }
 
 /// Random transforms: rotation about a random axis, non-uniform scale, translation.
+/// `--stats` counts the work inside instances apart: every query that tests the instance (the
+/// scene structure's only primitive) runs one query of the prototype's structure, whose nodes and
+/// triangle tests are counted; the same mesh as a plain shape has no instance queries.
+#[test]
+fn work_inside_instances_is_counted_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    write_mesh(dir.path());
+    let traversal = |instanced| {
+        let scene = Scene::new(&parse(&scene_text(instanced)), dir.path()).unwrap();
+        appel::render::render(&scene, &Default::default())
+            .unwrap()
+            .1
+            .traversal
+    };
+    let (baked, inst) = (traversal(false), traversal(true));
+    assert_eq!(baked.instance_queries, 0);
+    assert_eq!(baked.instance_prim_tests, 0);
+    assert!(inst.instance_queries > 0);
+    assert_eq!(inst.instance_queries, inst.prim_tests);
+    assert!(inst.instance_nodes_visited > 0 && inst.instance_prim_tests > 0);
+    // The prototype's structure is the baked mesh's structure (in object space): the same order of
+    // work per ray.
+    let per = |n: u64, q: u64| n as f64 / q as f64;
+    let (a, b) = (
+        per(inst.instance_prim_tests, inst.instance_queries),
+        per(baked.prim_tests, baked.rays),
+    );
+    assert!(a > 0.25 * b && a < 4.0 * b, "{a} against {b}");
+}
+
 fn random_transform(rng: &mut SplitMix64) -> glam::Mat4 {
     let axis = (rng.in_box(Vec3::splat(-1.0), Vec3::splat(1.0)) + Vec3::splat(1e-3)).normalize();
     glam::Mat4::from_scale_rotation_translation(

@@ -27,7 +27,7 @@ impl Brute {
         let mut best: Option<Hit> = None;
         let mut t_max = t_max;
         for i in 0..self.count {
-            if let Some(h) = prims.intersect(i, ray, t_max) {
+            if let Some(h) = prims.intersect_counted(i, ray, t_max, stats) {
                 t_max = h.t;
                 best = Some(Hit::new(i, h));
             }
@@ -45,7 +45,7 @@ impl Brute {
         stats.rays += 1;
         for i in 0..self.count {
             stats.prim_tests += 1;
-            if prims.occluded(i, ray, t_max) {
+            if prims.occluded_counted(i, ray, t_max, stats) {
                 return true;
             }
         }

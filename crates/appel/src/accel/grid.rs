@@ -254,7 +254,7 @@ impl Grid {
                 }
                 mail[slot] = p;
                 stats.prim_tests += 1;
-                if let Some(h) = test_primitive::<P, ANY>(prims, p as usize, ray, t_max) {
+                if let Some(h) = test_primitive::<P, ANY>(prims, p as usize, ray, t_max, stats) {
                     best = Some(Hit::new(p as usize, h));
                     if ANY {
                         return best;

@@ -72,6 +72,31 @@ pub trait Primitives: Sync {
     fn occluded(&self, i: usize, ray: &Ray, t_max: f32) -> bool {
         self.intersect(i, ray, t_max).is_some()
     }
+    /// [`Self::intersect`], adding to `stats` the work of a primitive traced through a structure of
+    /// its own (a mesh instance: its prototype's), which structures cannot see. The default has none.
+    #[inline(always)]
+    fn intersect_counted(
+        &self,
+        i: usize,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<PrimHit> {
+        let _ = stats;
+        self.intersect(i, ray, t_max)
+    }
+    /// [`Self::occluded`], counting as [`Self::intersect_counted`] does.
+    #[inline(always)]
+    fn occluded_counted(
+        &self,
+        i: usize,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        let _ = stats;
+        self.occluded(i, ray, t_max)
+    }
     /// The vertices of primitive `i` if it is a triangle whose [`Primitives::intersect`] is exactly
     /// [`crate::geometry::triangle::watertight`] on them. Structures may then gather the vertices into SIMD
     /// blocks and test them without the call back; `None` (the default) always calls back.
@@ -89,22 +114,28 @@ pub trait Primitives: Sync {
         ids: impl IntoIterator<Item = u32>,
         ray: &Ray,
         t_max: &mut f32,
+        stats: &mut TraversalStats,
     ) -> Option<Hit>
     where
         Self: Sized,
     {
         closest_of::<ANY>(ids, t_max, |id, t_max| {
-            test_primitive::<Self, ANY>(self, id as usize, ray, t_max)
+            test_primitive::<Self, ANY>(self, id as usize, ray, t_max, stats)
         })
     }
     /// [`Self::intersect_ids`] of every primitive, in an order of the set's choosing (the hit is
     /// the same but for ties in `t`): what a structure that is a single leaf asks.
     #[inline(always)]
-    fn intersect_all<const ANY: bool>(&self, ray: &Ray, t_max: &mut f32) -> Option<Hit>
+    fn intersect_all<const ANY: bool>(
+        &self,
+        ray: &Ray,
+        t_max: &mut f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit>
     where
         Self: Sized,
     {
-        self.intersect_ids::<ANY>(0..self.count() as u32, ray, t_max)
+        self.intersect_ids::<ANY>(0..self.count() as u32, ray, t_max, stats)
     }
 }
 
@@ -131,20 +162,21 @@ pub(crate) fn closest_of<const ANY: bool>(
 
 /// A structure's test of one primitive: its closest hit, or in an any-hit query (`ANY`) a stand-in
 /// hit at `t_max` when [`Primitives::occluded`] says there is one (any-hit queries report only
-/// whether).
+/// whether). Work inside the primitive (an instance's structure) is added to `stats`.
 #[inline(always)]
 pub(crate) fn test_primitive<P: Primitives, const ANY: bool>(
     prims: &P,
     i: usize,
     ray: &Ray,
     t_max: f32,
+    stats: &mut TraversalStats,
 ) -> Option<PrimHit> {
     if ANY {
         prims
-            .occluded(i, ray, t_max)
+            .occluded_counted(i, ray, t_max, stats)
             .then_some(PrimHit::any_hit(t_max))
     } else {
-        prims.intersect(i, ray, t_max)
+        prims.intersect_counted(i, ray, t_max, stats)
     }
 }
 

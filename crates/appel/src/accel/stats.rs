@@ -24,6 +24,12 @@ pub struct TraversalStats {
     pub nodes_visited: u64,
     /// Ray-primitive intersection tests.
     pub prim_tests: u64,
+    /// Queries of instances' own structures (a ray reaching a mesh instance is traced through its
+    /// prototype's structure), with their nodes visited and primitive tests: counted apart, so
+    /// that the means above stay those of the scene's structure.
+    pub instance_queries: u64,
+    pub instance_nodes_visited: u64,
+    pub instance_prim_tests: u64,
 }
 
 impl TraversalStats {
@@ -31,5 +37,15 @@ impl TraversalStats {
         self.rays += o.rays;
         self.nodes_visited += o.nodes_visited;
         self.prim_tests += o.prim_tests;
+        self.instance_queries += o.instance_queries;
+        self.instance_nodes_visited += o.instance_nodes_visited;
+        self.instance_prim_tests += o.instance_prim_tests;
+    }
+
+    /// Adds a query of an instance's structure, whose own statistics are `inner`.
+    pub fn add_instance_query(&mut self, inner: &TraversalStats) {
+        self.instance_queries += inner.rays;
+        self.instance_nodes_visited += inner.nodes_visited;
+        self.instance_prim_tests += inner.prim_tests;
     }
 }

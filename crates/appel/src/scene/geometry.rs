@@ -1,7 +1,7 @@
 //! All the surfaces of a scene, flattened into one list of primitives for the acceleration structure.
 
 use super::instance::{Instance, Prototype};
-use crate::accel::{closest_of, test_primitive, Hit, Primitives};
+use crate::accel::{closest_of, test_primitive, Hit, Primitives, TraversalStats};
 use crate::geometry::{
     triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SphereBlock,
     SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
@@ -259,12 +259,13 @@ impl Geometry {
         ray: &Ray,
         r: &RayF64,
         t_max: &mut f32,
+        stats: &mut TraversalStats,
     ) -> Option<Hit> {
         closest_of::<ANY>(ids, t_max, |id, t_max| {
             let h = match self.analytic.get(id as usize) {
                 Some(Analytic::Sphere(s)) => s.intersect_f64(r, t_max),
                 Some(Analytic::Rectangle(p)) => p.intersect_f64(r, t_max),
-                _ => return self.test_other::<ANY>(id, ray, t_max),
+                _ => return self.test_other::<ANY>(id, ray, t_max, stats),
             };
             // An any-hit query reports what `test_primitive` would.
             h.map(|h| if ANY { PrimHit::any_hit(t_max) } else { h })
@@ -274,8 +275,14 @@ impl Geometry {
     /// The primitives without a table entry, out of line: inlined, the dispatch over every kind
     /// of shape kept the compiler from inlining the table's tests into the leaf loop.
     #[inline(never)]
-    fn test_other<const ANY: bool>(&self, id: u32, ray: &Ray, t_max: f32) -> Option<PrimHit> {
-        test_primitive::<Self, ANY>(self, id as usize, ray, t_max)
+    fn test_other<const ANY: bool>(
+        &self,
+        id: u32,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<PrimHit> {
+        test_primitive::<Self, ANY>(self, id as usize, ray, t_max, stats)
     }
 
     /// The `shapeid` and `primid` a hit reports: its `[[shape]]` (for an instance, its `[[instance]]`
@@ -394,7 +401,14 @@ impl Geometry {
     }
 
     #[inline]
-    fn intersect_shape(&self, shape: u32, index: u32, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+    fn intersect_shape(
+        &self,
+        shape: u32,
+        index: u32,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<PrimHit> {
         match &self.shapes[shape as usize].kind {
             ShapeKind::Sphere(s) => s.intersect(ray, t_max),
             ShapeKind::Plane(p) => p.intersect(ray, t_max),
@@ -411,7 +425,7 @@ impl Geometry {
             ShapeKind::Torus(t) => t.intersect(ray, t_max),
             ShapeKind::Instances => {
                 let instance = &self.instances[index as usize];
-                self.prototypes[instance.prototype as usize].intersect(instance, ray, t_max)
+                self.prototypes[instance.prototype as usize].intersect(instance, ray, t_max, stats)
             }
         }
     }
@@ -421,7 +435,9 @@ impl Geometry {
         let mut best = None;
         let mut t_max = t_max;
         for &shape in &self.unbounded {
-            if let Some(h) = self.intersect_shape(shape, 0, ray, t_max) {
+            // Unbounded shapes are planes: nothing to count.
+            let mut none = TraversalStats::default();
+            if let Some(h) = self.intersect_shape(shape, 0, ray, t_max, &mut none) {
                 t_max = h.t;
                 best = Some(SceneHit {
                     t: h.t,
@@ -437,9 +453,11 @@ impl Geometry {
     }
 
     pub fn occluded_unbounded(&self, ray: &Ray, t_max: f32) -> bool {
+        // Unbounded shapes are planes: nothing to count.
+        let mut none = TraversalStats::default();
         self.unbounded
             .iter()
-            .any(|&s| self.intersect_shape(s, 0, ray, t_max).is_some())
+            .any(|&s| self.intersect_shape(s, 0, ray, t_max, &mut none).is_some())
     }
 
     /// Turns an acceleration-structure hit into a scene hit.
@@ -533,13 +551,25 @@ impl Primitives for Geometry {
     /// An instance answers a shadow ray with its own structure's any-hit query, which stops at the
     /// first triangle it finds.
     fn occluded(&self, i: usize, ray: &Ray, t_max: f32) -> bool {
+        self.occluded_counted(i, ray, t_max, &mut TraversalStats::default())
+    }
+
+    fn occluded_counted(
+        &self,
+        i: usize,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
         let r = self.prims.get(i);
         match &self.shapes[r.shape as usize].kind {
             ShapeKind::Instances => {
                 let instance = &self.instances[r.index as usize];
-                self.prototypes[instance.prototype as usize].occluded(instance, ray, t_max)
+                self.prototypes[instance.prototype as usize].occluded(instance, ray, t_max, stats)
             }
-            _ => self.intersect_shape(r.shape, r.index, ray, t_max).is_some(),
+            _ => self
+                .intersect_shape(r.shape, r.index, ray, t_max, stats)
+                .is_some(),
         }
     }
 
@@ -567,8 +597,20 @@ impl Primitives for Geometry {
 
     #[inline]
     fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+        self.intersect_counted(i, ray, t_max, &mut TraversalStats::default())
+    }
+
+    /// A mesh instance's primitive adds its prototype's traversal to `stats`.
+    #[inline]
+    fn intersect_counted(
+        &self,
+        i: usize,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<PrimHit> {
         let r = self.prims.get(i);
-        self.intersect_shape(r.shape, r.index, ray, t_max)
+        self.intersect_shape(r.shape, r.index, ray, t_max, stats)
     }
 
     /// Spheres and rectangles straight from their table, from one f64 ray: in a scene of a few
@@ -579,14 +621,20 @@ impl Primitives for Geometry {
         ids: impl IntoIterator<Item = u32>,
         ray: &Ray,
         t_max: &mut f32,
+        stats: &mut TraversalStats,
     ) -> Option<Hit> {
-        self.intersect_ids_f64::<ANY>(ids, ray, &RayF64::new(ray), t_max)
+        self.intersect_ids_f64::<ANY>(ids, ray, &RayF64::new(ray), t_max, stats)
     }
 
     /// The spheres by blocks ([`SphereBlock`]), then the rectangles, each from one f64 ray and
     /// without a per-primitive dispatch, then the other primitives one by one.
     #[inline(always)]
-    fn intersect_all<const ANY: bool>(&self, ray: &Ray, t_max: &mut f32) -> Option<Hit> {
+    fn intersect_all<const ANY: bool>(
+        &self,
+        ray: &Ray,
+        t_max: &mut f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
         let r = RayF64::new(ray);
         let mut best = None;
         for block in &self.sphere_blocks {
@@ -610,7 +658,7 @@ impl Primitives for Geometry {
         }
         let runs = self.analytic.len() as u32..self.prims.len() as u32;
         let others = self.others.iter().copied().chain(runs);
-        self.intersect_ids_f64::<ANY>(others, ray, &r, t_max)
+        self.intersect_ids_f64::<ANY>(others, ray, &r, t_max, stats)
             .or(best)
     }
 
@@ -663,7 +711,7 @@ mod tests {
         // Rays leaving sphere surfaces, to either side, as secondary rays do.
         for (i, ray) in tested.clone().iter().enumerate() {
             let mut t = f32::INFINITY;
-            if let Some(h) = g.intersect_all::<false>(ray, &mut t) {
+            if let Some(h) = g.intersect_all::<false>(ray, &mut t, &mut TraversalStats::default()) {
                 let si = g.interaction(ray, &g.scene_hit(h));
                 let w = if i % 2 == 0 { si.n } else { -si.n } + 0.5 * ray.dir;
                 tested.push(Ray::new(offset_ray_origin(si.p, si.p_error, si.n, w), w));
@@ -678,13 +726,14 @@ mod tests {
                 })
             };
             let (mut t_all, mut t_one) = (limit, limit);
-            let all = g.intersect_all::<false>(ray, &mut t_all);
+            let all = g.intersect_all::<false>(ray, &mut t_all, &mut TraversalStats::default());
             let one = one_by_one(&mut t_one);
             let key = |h: Option<Hit>| h.map(|h| (h.prim, h.t.to_bits()));
             assert_eq!(key(all), key(one), "ray {i}: {ray:?}");
             let mut t_any = limit;
             assert_eq!(
-                g.intersect_all::<true>(ray, &mut t_any).is_some(),
+                g.intersect_all::<true>(ray, &mut t_any, &mut TraversalStats::default())
+                    .is_some(),
                 one.is_some()
             );
             hits += one.is_some() as usize;

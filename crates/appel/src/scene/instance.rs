@@ -46,31 +46,47 @@ impl Prototype {
 
     /// The closest hit of `ray` with `instance` of this prototype, in `(0, t_max)`. `t` is the
     /// world ray's (the object-space direction is not renormalized); `sub` names the primitive hit
-    /// among the prototype's, so the interaction can be computed later.
+    /// among the prototype's, so the interaction can be computed later. The query of the
+    /// prototype's structure is added to `stats` as an instance query.
     #[inline]
-    pub fn intersect(&self, instance: &Instance, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+    pub fn intersect(
+        &self,
+        instance: &Instance,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<PrimHit> {
         let local = instance.transform.ray_to_object(ray);
-        // The trait's per-primitive call has no statistics to add to: the nodes and triangles
-        // visited inside instances are not counted by `--stats`.
-        let mut stats = TraversalStats::default();
-        self.accel
-            .intersect(&self.geometry, &local, t_max, &mut stats)
-            .map(|h| PrimHit {
-                t: h.t,
-                u: h.u,
-                v: h.v,
-                sub: h.prim,
-            })
+        let mut inner = TraversalStats::default();
+        let hit = self
+            .accel
+            .intersect(&self.geometry, &local, t_max, &mut inner);
+        stats.add_instance_query(&inner);
+        hit.map(|h| PrimHit {
+            t: h.t,
+            u: h.u,
+            v: h.v,
+            sub: h.prim,
+        })
     }
 
     /// Whether `ray` hits `instance` of this prototype in `(0, t_max)`: the structure's any-hit
-    /// query, which returns at the first hit it finds.
+    /// query, which returns at the first hit it finds (counted in `stats` as an instance query).
     #[inline]
-    pub fn occluded(&self, instance: &Instance, ray: &Ray, t_max: f32) -> bool {
+    pub fn occluded(
+        &self,
+        instance: &Instance,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
         let local = instance.transform.ray_to_object(ray);
-        let mut stats = TraversalStats::default();
-        self.accel
-            .occluded(&self.geometry, &local, t_max, &mut stats)
+        let mut inner = TraversalStats::default();
+        let hit = self
+            .accel
+            .occluded(&self.geometry, &local, t_max, &mut inner);
+        stats.add_instance_query(&inner);
+        hit
     }
 
     pub fn triangle_count(&self) -> usize {

@@ -107,7 +107,9 @@ impl Bvh {
                     let first = node.offset as usize;
                     for &p in &self.indices[first..first + node.count as usize] {
                         stats.prim_tests += 1;
-                        if let Some(h) = test_primitive::<P, ANY>(prims, p as usize, ray, t_max) {
+                        if let Some(h) =
+                            test_primitive::<P, ANY>(prims, p as usize, ray, t_max, stats)
+                        {
                             best = Some(Hit::new(p as usize, h));
                             if ANY {
                                 return best;

@@ -174,7 +174,7 @@ impl KdTree {
                     std::mem::replace(&mut mail[slot], p) == p
                 };
                 test_blocks::<P, ANY, AVX>(
-                    blocks, count, &rt, prims, ray, &mut t_max, &mut best, seen,
+                    blocks, count, &rt, prims, ray, &mut t_max, &mut best, stats, seen,
                 );
                 if ANY && best.is_some() {
                     return best;

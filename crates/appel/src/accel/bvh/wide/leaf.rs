@@ -2,7 +2,7 @@
 //! kd-tree share.
 
 use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
-use crate::accel::{test_primitive, Hit, Primitives};
+use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
 use crate::math::Ray;
 
 /// Tests a leaf's triangle blocks (and calls back its other primitives), narrowing `t_max` and
@@ -20,6 +20,7 @@ pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
     ray: &Ray,
     t_max: &mut f32,
     best: &mut Option<Hit>,
+    stats: &mut TraversalStats,
     mut seen: impl FnMut(u32) -> bool,
 ) {
     let mut vals = LaneValues::new();
@@ -57,7 +58,7 @@ pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
             let h = match b.triangle(lane) {
                 // SAFETY: the filter run into `vals` just kept lane `bit`.
                 Some(tri) => unsafe { finish(&vals, bit, tri, ray, *t_max) },
-                None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max),
+                None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats),
             };
             if let Some(h) = h {
                 *best = Some(Hit::new(id as usize, h));

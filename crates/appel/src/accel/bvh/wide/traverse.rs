@@ -211,10 +211,10 @@ impl<const W: usize> WideBvh<W> {
             stats.prim_tests += count as u64;
             if count == prims.count() {
                 // The leaf holds every primitive: the set may know a faster way to test them all.
-                return prims.intersect_all::<ANY>(ray, &mut t_max);
+                return prims.intersect_all::<ANY>(ray, &mut t_max, stats);
             }
             let ids = self.blocks[first..].iter().flat_map(|b| b.id).take(count);
-            return prims.intersect_ids::<ANY>(ids, ray, &mut t_max);
+            return prims.intersect_ids::<ANY>(ids, ray, &mut t_max, stats);
         }
         self.root_leaf_triangles::<P, ANY>(leaf, prims, ray, t_max, stats)
     }
@@ -260,19 +260,21 @@ impl<const W: usize> WideBvh<W> {
         let (first, count) = node::leaf_range(leaf);
         stats.prim_tests += count as u64;
         if COMPACT {
-            self.compact_leaf::<P, ANY, AVX>(leaf, rt, prims, ray, t_max, best);
+            self.compact_leaf::<P, ANY, AVX>(leaf, rt, prims, ray, t_max, best, stats);
             return;
         }
         let blocks = &self.blocks[first..first + count.div_ceil(4)];
         if leaf & node::NO_TRIANGLES == 0 {
             let rt = rt.get_or_insert_with(|| RayTri::new(ray));
-            test_blocks::<P, ANY, AVX>(blocks, count, rt, prims, ray, t_max, best, |_| false);
+            test_blocks::<P, ANY, AVX>(blocks, count, rt, prims, ray, t_max, best, stats, |_| {
+                false
+            });
             return;
         }
         // Spheres, implicit surfaces, instances: no filter, every primitive called back.
         // The ids in order, without an index check per primitive.
         let ids = blocks.iter().flat_map(|b| b.id).take(count);
-        if let Some(h) = prims.intersect_ids::<ANY>(ids, ray, t_max) {
+        if let Some(h) = prims.intersect_ids::<ANY>(ids, ray, t_max, stats) {
             *best = Some(h);
         }
     }
@@ -289,13 +291,14 @@ impl<const W: usize> WideBvh<W> {
         ray: &Ray,
         t_max: &mut f32,
         best: &mut Option<Hit>,
+        stats: &mut TraversalStats,
     ) {
         let (first, count) = node::leaf_range(leaf);
         let ids = &self.ids[first..first + count.div_ceil(4)];
         if leaf & node::NO_TRIANGLES != 0 {
             for k in 0..count {
                 let id = ids[k / 4][k % 4];
-                if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, *t_max) {
+                if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats) {
                     *best = Some(Hit::new(id as usize, h));
                     if ANY {
                         return;
@@ -338,7 +341,7 @@ impl<const W: usize> WideBvh<W> {
                 let bit = m.trailing_zeros() as usize;
                 m &= m - 1;
                 let id = pair[bit / 4][bit % 4];
-                if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, *t_max) {
+                if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats) {
                     *best = Some(Hit::new(id as usize, h));
                     if ANY {
                         return;
