@@ -296,15 +296,10 @@ impl<const W: usize> WideBvh<W> {
         let (first, count) = node::leaf_range(leaf);
         let ids = &self.ids[first..first + count.div_ceil(4)];
         if leaf & node::NO_TRIANGLES != 0 {
-            for k in 0..count {
-                let id = ids[k / 4][k % 4];
-                if let Some(h) = test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats) {
-                    *best = Some(Hit::new(id as usize, h));
-                    if ANY {
-                        return;
-                    }
-                    *t_max = h.t;
-                }
+            // Called back in order, as a leaf of blocks is (`Self::leaf`).
+            let in_order = ids.iter().flatten().copied().take(count);
+            if let Some(h) = prims.intersect_ids::<ANY>(in_order, ray, t_max, stats) {
+                *best = Some(h);
             }
             return;
         }
