@@ -362,3 +362,22 @@ fn gltf_nodes_sharing_a_mesh_become_placements_of_one_copy() {
     assert_eq!(hit.instance, 1);
     assert!((hit.t - 18.0).abs() < 1e-5);
 }
+
+#[test]
+fn convex_polygons_are_clipped_into_the_fan_from_their_first_corner() {
+    // A convex pentagon, not planar by a little (the second half of a quad shares the diagonal
+    // from corner 0, which the wide BVH pairs on).
+    let pts = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(2.0, 0.0, 0.01),
+        Vec3::new(3.0, 1.5, 0.0),
+        Vec3::new(1.0, 3.0, 0.02),
+        Vec3::new(-1.0, 1.5, 0.0),
+    ];
+    let mut tris = vec![];
+    triangulate(&pts, &mut tris);
+    assert_eq!(tris, vec![[0, 1, 2], [0, 2, 3], [0, 3, 4]]);
+    let mut quad = vec![];
+    triangulate(&pts[..4], &mut quad);
+    assert_eq!(quad, vec![[0, 1, 2], [0, 2, 3]]);
+}

@@ -352,7 +352,10 @@ pub fn triangulate(points: &[Vec3], out: &mut Vec<[usize; 3]>) {
     while ring.len() > 3 {
         let m = ring.len();
         let mut clipped = false;
-        for i in 0..m {
+        // The search starts at the ring's second corner, so that a convex polygon is clipped
+        // into the fan from its first corner, `(0, k, k + 1)`: a quad's two halves are then
+        // `(p0, p1, p2)` and `(p0, p2, p3)`, the pair the wide BVH stores as one quad.
+        for i in (1..m).chain([0]) {
             let (ip, ic, inx) = (ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]);
             let (a, b, c) = (p2[ip], p2[ic], p2[inx]);
             if cross(a, b, c).is_nan() || cross(a, b, c) <= 0.0 {

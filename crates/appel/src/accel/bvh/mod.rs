@@ -4,6 +4,7 @@
 mod build;
 mod build_prim;
 mod node;
+mod pairs;
 mod traverse;
 mod wide;
 
@@ -11,7 +12,7 @@ pub use build::{BvhOptions, BvhSplit};
 pub use node::BvhNode;
 pub(crate) use traverse::{far_scale, RayBox};
 pub(crate) use wide::{test_blocks, RayTri};
-pub use wide::{TriBlock, WideBvh, WideNode, PACKET};
+pub use wide::{QuadBlock, TriBlock, WideBvh, WideNode, PACKET};
 
 use super::{AccelStats, Hit, Primitives, TraversalStats};
 #[cfg(test)]
@@ -51,11 +52,33 @@ impl Bvh {
             n < u32::MAX as usize,
             "a BVH indexes primitives with u32, got {n}"
         );
-        let mut refs: Vec<build::BuildPrim> = (0..n)
-            .into_par_iter()
-            .map(|i| build::BuildPrim::new(prims.bounds(i), i as u32))
-            .collect();
-        let nodes = build::build(&build::Ctx { opts }, &mut refs);
+        assert!(
+            matches!(opts.width, 2 | 4 | 8),
+            "BVH width must be 2, 4 or 8, not {}",
+            opts.width
+        );
+        // Wide trees with vertex blocks build over pairs of triangles where the mesh is made of
+        // quads: each item then stands for two triangles, and the costs count blocks of pairs.
+        let items = (opts.width > 2 && !opts.compact && opts.pairs)
+            .then(|| pairs::pair_up(prims))
+            .flatten();
+        let build_opts = if items.is_some() {
+            opts.for_pairs()
+        } else {
+            opts
+        };
+        let mut refs: Vec<build::BuildPrim> = match &items {
+            Some(items) => items
+                .par_iter()
+                .enumerate()
+                .map(|(k, &code)| build::BuildPrim::new(pairs::item_bounds(prims, code), k as u32))
+                .collect(),
+            None => (0..n)
+                .into_par_iter()
+                .map(|i| build::BuildPrim::new(prims.bounds(i), i as u32))
+                .collect(),
+        };
+        let nodes = build::build(&build::Ctx { opts: build_opts }, &mut refs);
         let indices: Vec<u32> = refs.par_iter().map(|r| r.id()).collect();
         drop(refs);
         let mut bvh = Self {
@@ -65,20 +88,29 @@ impl Bvh {
             depth: 0,
             stats: AccelStats::default(),
         };
-        bvh.measure(&opts);
+        bvh.measure(&build_opts);
+        bvh.stats.primitives = n;
+        fn collapse<P: Primitives, const W: usize>(
+            prims: &P,
+            bvh: &Bvh,
+            items: &Option<Vec<u32>>,
+            compact: bool,
+        ) -> WideBvh<W> {
+            match items {
+                Some(items) => WideBvh::from_binary_paired(prims, &bvh.nodes, &bvh.indices, items),
+                None => WideBvh::from_binary_with(prims, &bvh.nodes, &bvh.indices, compact),
+            }
+        }
         let (bytes, counts, wide) = match opts.width {
             2 => return bvh,
             4 => {
-                let w =
-                    WideBvh::<4>::from_binary_with(prims, &bvh.nodes, &bvh.indices, opts.compact);
+                let w = collapse::<P, 4>(prims, &bvh, &items, opts.compact);
                 (w.bytes(), w.counts(), Wide::W4(w))
             }
-            8 => {
-                let w =
-                    WideBvh::<8>::from_binary_with(prims, &bvh.nodes, &bvh.indices, opts.compact);
+            _ => {
+                let w = collapse::<P, 8>(prims, &bvh, &items, opts.compact);
                 (w.bytes(), w.counts(), Wide::W8(w))
             }
-            w => panic!("BVH width must be 2, 4 or 8, not {w}"),
         };
         bvh.wide = wide;
         bvh.stats.bytes = bytes;

@@ -1,6 +1,7 @@
 //! A leaf's triangle blocks against one ray: the part of the traversal the wide BVH and the
 //! kd-tree share.
 
+use super::quad_block::QuadBlock;
 use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
 use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
 use crate::math::Ray;
@@ -56,6 +57,59 @@ pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
                 continue;
             }
             let h = match b.triangle(lane) {
+                // SAFETY: the filter run into `vals` just kept lane `bit`.
+                Some(tri) => unsafe { finish(&vals, bit, tri, ray, *t_max) },
+                None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats),
+            };
+            if let Some(h) = h {
+                *best = Some(Hit::new(id as usize, h));
+                if ANY {
+                    return;
+                }
+                *t_max = h.t;
+            }
+        }
+    }
+}
+
+/// [`test_blocks`] for a leaf of [`QuadBlock`]s: `count` lanes in use (pairs, lone triangles or
+/// called-back primitives), each pair's two triangles filtered together in one AVX run (two SSE
+/// runs without AVX2). Adds the triangle lanes it reaches to `stats.prim_tests`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn test_quads<P: Primitives, const ANY: bool, const AVX: bool>(
+    quads: &[QuadBlock],
+    count: usize,
+    rt: &RayTri,
+    prims: &P,
+    ray: &Ray,
+    t_max: &mut f32,
+    best: &mut Option<Hit>,
+    stats: &mut TraversalStats,
+) {
+    let mut vals = LaneValues::new();
+    for (at, q) in quads.iter().enumerate() {
+        let used = count - 4 * at;
+        let lanes = if used < 4 { (1u32 << used) - 1 } else { 0b1111 };
+        let pairs = q.pair_mask() & lanes;
+        stats.prim_tests += (lanes.count_ones() + pairs.count_ones()) as u64;
+        #[cfg(target_arch = "x86_64")]
+        let m = if AVX {
+            // SAFETY: callers pass `AVX` only from functions compiled for AVX2, entered after
+            // detecting it.
+            unsafe { rt.candidates_quads_avx2(q, *t_max, &mut vals) }
+        } else {
+            rt.candidates_quads(q, *t_max, &mut vals)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let m = rt.candidates_quads(q, *t_max, &mut vals);
+        // Unused lanes, and the second triangle of lanes that have none.
+        let mut m = m & (lanes | pairs << 4);
+        while m != 0 {
+            let bit = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let id = q.prim(bit);
+            let h = match q.triangle(bit) {
                 // SAFETY: the filter run into `vals` just kept lane `bit`.
                 Some(tri) => unsafe { finish(&vals, bit, tri, ray, *t_max) },
                 None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats),

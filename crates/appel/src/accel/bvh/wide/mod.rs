@@ -4,17 +4,21 @@
 //! adopts its children, then repeatedly opens the child with the largest surface area, until it has
 //! `W` children or only leaves remain.
 
+// `tri_block` first: its triangle filter (a macro) serves `quad_block` too.
+#[macro_use]
+mod tri_block;
 mod leaf;
 mod node;
 mod packet;
+mod quad_block;
 #[cfg(target_arch = "x86_64")]
 mod simd;
 mod traverse;
-mod tri_block;
 
 pub(crate) use leaf::test_blocks;
 pub use node::WideNode;
 pub use packet::PACKET;
+pub use quad_block::{QuadBlock, PAIR};
 pub(crate) use tri_block::RayTri;
 pub use tri_block::TriBlock;
 
@@ -22,12 +26,16 @@ use super::node::BvhNode;
 use crate::accel::Primitives;
 use crate::math::{Aabb, Vec3};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
 #[derive(Clone, Debug, Default)]
 pub struct WideBvh<const W: usize> {
     nodes: Vec<WideNode<W>>,
     /// The leaves' triangles; empty for compact leaves.
     blocks: Vec<TriBlock>,
+    /// The leaves' pairs of triangles (leaves tagged [`node::QUADS`]), when the tree was built
+    /// over pairs ([`Self::from_binary_paired`]).
+    quads: Vec<QuadBlock>,
     /// Compact leaves (`BvhOptions::compact`): each block's four primitive ids, padded as the
     /// blocks are, the vertices fetched through `Primitives` at every visit; empty otherwise.
     ids: Vec<[u32; 4]>,
@@ -88,31 +96,6 @@ fn scatter<P: Primitives>(
     indices: &[u32],
     blocks: &mut [TriBlock],
 ) -> Vec<bool> {
-    /// Lanes of the blocks, written by many threads, each lane by exactly one.
-    #[derive(Clone, Copy)]
-    struct Lanes(*mut TriBlock);
-    // SAFETY: the threads write disjoint lanes, through raw pointers (no references overlap).
-    unsafe impl Send for Lanes {}
-    unsafe impl Sync for Lanes {}
-    impl Lanes {
-        /// SAFETY: `lane / 4` is in bounds, and no other thread touches this lane meanwhile.
-        #[inline(always)]
-        unsafe fn write(self, lane: usize, id: u32, tri: Option<[Vec3; 3]>) {
-            let b = self.0.add(lane / 4);
-            let l = lane % 4;
-            std::ptr::addr_of_mut!((*b).id)
-                .cast::<u32>()
-                .add(l)
-                .write(id);
-            let v = std::ptr::addr_of_mut!((*b).v).cast::<f32>();
-            for k in 0..3 {
-                for a in 0..3 {
-                    let x = tri.map_or(f32::NAN, |t| t[k][a]);
-                    v.add(4 * (3 * k + a) + l).write(x);
-                }
-            }
-        }
-    }
     assert!(4 * blocks.len() <= u32::MAX as usize);
     // Every primitive's lane, `4 * block + lane`.
     let mut lane_of = vec![0u32; indices.len()];
@@ -127,7 +110,7 @@ fn scatter<P: Primitives>(
         });
     }
     let lanes = Lanes(blocks.as_mut_ptr());
-    let called_back = std::sync::atomic::AtomicBool::new(false);
+    let called_back = AtomicBool::new(false);
     lane_of
         .par_iter()
         .enumerate()
@@ -135,7 +118,7 @@ fn scatter<P: Primitives>(
         .for_each(|(id, &lane)| {
             let tri = prims.watertight_triangle(id);
             if tri.is_none() {
-                called_back.store(true, std::sync::atomic::Ordering::Relaxed);
+                called_back.store(true, Relaxed);
             }
             // SAFETY: `lane_of` is a permutation of the leaves' lanes, all inside `blocks`.
             unsafe { lanes.write(lane as usize, id as u32, tri) };
@@ -145,18 +128,182 @@ fn scatter<P: Primitives>(
     // Pad each leaf's last block, and flag the leaves without triangles.
     runs(leaves, blocks)
         .into_par_iter()
-        .map(|(l, run)| {
-            let used = l.count as usize - 4 * (run.len() - 1);
-            let last = run.last_mut().expect("a leaf has a block");
-            for lane in used..4 {
-                last.id[lane] = last.id[0];
-                for row in &mut last.v {
-                    row[lane] = row[0];
+        .map(|(l, run)| pad_and_flag(run, l.count as usize, called_back))
+        .collect()
+}
+
+/// Pads a leaf's last block (`lanes` in use in the leaf) with its lane 0; returns whether the leaf
+/// holds no triangle (only asked when some primitive is called back at all).
+fn pad_and_flag(run: &mut [TriBlock], lanes: usize, called_back: bool) -> bool {
+    let used = lanes - 4 * (run.len() - 1);
+    run.last_mut().expect("a leaf has a block").pad_from(used);
+    called_back && !run.iter().any(|b| b.has_triangle())
+}
+
+/// Lanes of triangle blocks, written by many threads, each lane by exactly one.
+#[derive(Clone, Copy)]
+struct Lanes(*mut TriBlock);
+// SAFETY: the threads write disjoint lanes, through raw pointers (no references overlap).
+unsafe impl Send for Lanes {}
+unsafe impl Sync for Lanes {}
+
+impl Lanes {
+    /// SAFETY: `lane / 4` is in bounds, and no other thread touches this lane meanwhile.
+    #[inline(always)]
+    unsafe fn write(self, lane: usize, id: u32, tri: Option<[Vec3; 3]>) {
+        let b = self.0.add(lane / 4);
+        let l = lane % 4;
+        std::ptr::addr_of_mut!((*b).id)
+            .cast::<u32>()
+            .add(l)
+            .write(id);
+        let v = std::ptr::addr_of_mut!((*b).v).cast::<f32>();
+        for k in 0..3 {
+            for a in 0..3 {
+                let x = tri.map_or(f32::NAN, |t| t[k][a]);
+                v.add(4 * (3 * k + a) + l).write(x);
+            }
+        }
+    }
+}
+
+/// Lanes of pair blocks, as [`Lanes`].
+#[derive(Clone, Copy)]
+struct QuadLanes(*mut QuadBlock);
+// SAFETY: as for `Lanes`.
+unsafe impl Send for QuadLanes {}
+unsafe impl Sync for QuadLanes {}
+
+impl QuadLanes {
+    /// SAFETY: as for [`Lanes::write`].
+    #[inline(always)]
+    unsafe fn write(self, lane: usize, code: u32, quad: Option<[Vec3; 4]>) {
+        QuadBlock::write_lane_raw(self.0.add(lane / 4), lane % 4, code, quad);
+    }
+}
+
+/// Fills the leaves of a tree built over pair items (`items`, see `accel/bvh/pairs.rs`; each leaf
+/// of `leaves` a range of `indices`, which name items): each leaf becomes blocks of pairs where
+/// that takes fewer bytes than triangle blocks (a pair's two triangles then take two lanes), and
+/// its slot in `nodes` is rewritten to say which. As [`scatter`], the items are read in their own
+/// order and written to their lanes. Returns the two block arrays.
+fn scatter_paired<P: Primitives, const W: usize>(
+    prims: &P,
+    leaves: &[LeafRange],
+    indices: &[u32],
+    items: &[u32],
+    nodes: &mut [WideNode<W>],
+) -> (Vec<TriBlock>, Vec<QuadBlock>) {
+    let is_pair = |k: u32| items[k as usize] & PAIR != 0;
+    // Each leaf's kind and lanes: `(pairs?, lanes)`.
+    let kinds: Vec<(bool, usize)> = leaves
+        .par_iter()
+        .map(|l| {
+            let ids = &indices[l.first_index as usize..][..l.count as usize];
+            let n = ids.len();
+            let triangles = n + ids.iter().filter(|&&k| is_pair(k)).count();
+            let quad_bytes = std::mem::size_of::<QuadBlock>() * n.div_ceil(4);
+            let tri_bytes = std::mem::size_of::<TriBlock>() * triangles.div_ceil(4);
+            if quad_bytes < tri_bytes {
+                (true, n)
+            } else {
+                (false, triangles)
+            }
+        })
+        .collect();
+    let (mut tri_blocks, mut quad_blocks) = (0usize, 0usize);
+    let firsts: Vec<u32> = leaves
+        .iter()
+        .zip(&kinds)
+        .map(|(l, &(quad, lanes))| {
+            let next = if quad {
+                &mut quad_blocks
+            } else {
+                &mut tri_blocks
+            };
+            let first = *next as u32;
+            *next += lanes.div_ceil(4);
+            let tag = if quad { node::QUADS } else { 0 };
+            nodes[l.slot.0 as usize].child[l.slot.1 as usize] =
+                node::leaf(first, lanes as u32) | tag;
+            first
+        })
+        .collect();
+    // Lanes are numbered below 2^31, the top bit telling pair blocks from triangle blocks.
+    assert!(4 * tri_blocks.max(quad_blocks) < PAIR as usize);
+    // Every item's lane (its first triangle's, in a triangle block).
+    let mut lane_of = vec![0u32; items.len()];
+    {
+        let out = SharedU32(lane_of.as_mut_ptr());
+        leaves
+            .par_iter()
+            .zip(&kinds)
+            .zip(&firsts)
+            .for_each(|((l, &(quad, _)), &first)| {
+                let ids = &indices[l.first_index as usize..][..l.count as usize];
+                let mut lane = 4 * first;
+                for &k in ids {
+                    // SAFETY: every item appears once in `indices`, so each element is written once.
+                    unsafe { out.write(k as usize, lane | if quad { PAIR } else { 0 }) };
+                    lane += if quad || !is_pair(k) { 1 } else { 2 };
+                }
+            });
+    }
+    let mut blocks: Vec<TriBlock> = bytemuck::zeroed_vec(tri_blocks);
+    let mut quads: Vec<QuadBlock> = bytemuck::zeroed_vec(quad_blocks);
+    let (tri_lanes, quad_lanes) = (Lanes(blocks.as_mut_ptr()), QuadLanes(quads.as_mut_ptr()));
+    let called_back = AtomicBool::new(false);
+    lane_of
+        .par_iter()
+        .zip(items)
+        .with_min_len(4096)
+        .for_each(|(&lane, &code)| {
+            let id = code & !PAIR;
+            let first = prims.watertight_triangle(id as usize);
+            if first.is_none() {
+                called_back.store(true, Relaxed);
+            }
+            let second = (code & PAIR != 0).then(|| {
+                prims
+                    .watertight_triangle(id as usize + 1)
+                    .expect("a pair is two watertight triangles")
+            });
+            let at = (lane & !PAIR) as usize;
+            // SAFETY: `lane_of` maps the items one to one onto the leaves' lanes (a pair in a
+            // triangle block onto two), all inside the blocks allocated above.
+            unsafe {
+                if lane & PAIR != 0 {
+                    let quad = first.map(|t| [t[0], t[1], t[2], second.map_or(t[2], |s| s[2])]);
+                    quad_lanes.write(at, code, quad);
+                } else {
+                    tri_lanes.write(at, id, first);
+                    if let Some(s) = second {
+                        tri_lanes.write(at + 1, id + 1, Some(s));
+                    }
                 }
             }
-            called_back && !run.iter().any(|b| b.has_triangle())
-        })
-        .collect()
+        });
+    drop(lane_of);
+    let called_back = called_back.into_inner();
+    // Pad each leaf's last block; flag the triangle leaves without triangles.
+    let (mut tri_rest, mut quad_rest) = (&mut blocks[..], &mut quads[..]);
+    for ((l, &(quad, lanes)), &first) in leaves.iter().zip(&kinds).zip(&firsts) {
+        let n = lanes.div_ceil(4);
+        if quad {
+            let (run, rest) = std::mem::take(&mut quad_rest).split_at_mut(n);
+            run[n - 1].pad_from(lanes - 4 * (n - 1));
+            quad_rest = rest;
+        } else {
+            let (run, rest) = std::mem::take(&mut tri_rest).split_at_mut(n);
+            if pad_and_flag(run, lanes, called_back) {
+                let slot = &mut nodes[l.slot.0 as usize].child[l.slot.1 as usize];
+                debug_assert_eq!(node::leaf_range(*slot).0, first as usize);
+                *slot |= node::NO_TRIANGLES;
+            }
+            tri_rest = rest;
+        }
+    }
+    (blocks, quads)
 }
 
 /// Compact leaves: each leaf's ids in blocks of four, the last one padded with its lane 0, as
@@ -246,22 +393,51 @@ impl<const W: usize> WideBvh<W> {
         for (l, _) in c.leaves.iter().zip(no_triangles).filter(|(_, none)| *none) {
             c.nodes[l.slot.0 as usize].child[l.slot.1 as usize] |= node::NO_TRIANGLES;
         }
+        Self::assemble(c, blocks, Vec::new(), ids)
+    }
+
+    /// Collapses a binary tree built over pair items (`indices` name entries of `items`, each a
+    /// primitive id with [`PAIR`] set where it holds the next primitive too: see
+    /// `accel/bvh/pairs.rs`). Leaves mostly of pairs hold [`QuadBlock`]s, the others triangle
+    /// blocks.
+    pub(crate) fn from_binary_paired<P: Primitives>(
+        prims: &P,
+        nodes: &[BvhNode],
+        indices: &[u32],
+        items: &[u32],
+    ) -> Self {
+        assert!(
+            W == 4 || W == 8,
+            "wide BVH nodes have 4 or 8 children, not {W}"
+        );
+        let mut c = Collapse::<W>::run(nodes);
+        let (blocks, quads) = scatter_paired(prims, &c.leaves, indices, items, &mut c.nodes);
+        Self::assemble(c, blocks, quads, Vec::new())
+    }
+
+    fn assemble(
+        c: Collapse<'_, W>,
+        blocks: Vec<TriBlock>,
+        quads: Vec<QuadBlock>,
+        ids: Vec<[u32; 4]>,
+    ) -> Self {
         let root = c.nodes.first();
         let root_leaf = root
             .filter(|r| c.nodes.len() == 1 && r.child[1..].iter().all(|&x| x == node::EMPTY))
             .map(|r| r.child[0])
             .filter(|&x| node::is_leaf(x));
-        let bytes = c.nodes.len() * std::mem::size_of::<WideNode<W>>()
-            + blocks.len() * std::mem::size_of::<TriBlock>();
-        Self {
+        let mut tree = Self {
             common: traverse::stack_need::<W>(c.depth) <= 128 && ids.is_empty(),
-            prefetch: bytes > crate::accel::PREFETCH_BYTES,
+            prefetch: false,
             nodes: c.nodes,
             blocks,
+            quads,
             ids,
             depth: c.depth,
             root_leaf,
-        }
+        };
+        tree.prefetch = tree.bytes() > crate::accel::PREFETCH_BYTES;
+        tree
     }
 
     pub fn nodes(&self) -> &[WideNode<W>] {
@@ -275,6 +451,7 @@ impl<const W: usize> WideBvh<W> {
     pub fn bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<WideNode<W>>()
             + self.blocks.len() * std::mem::size_of::<TriBlock>()
+            + self.quads.len() * std::mem::size_of::<QuadBlock>()
             + self.ids.len() * std::mem::size_of::<[u32; 4]>()
     }
 
@@ -418,13 +595,12 @@ mod tests {
                     assert!((0..3).all(|a| plo[a] <= lo[a] && hi[a] <= phi[a]));
                 }
                 if node::is_leaf(c) {
-                    let (first, count) = node::leaf_range(c);
-                    let ids = w.blocks[first..first + count.div_ceil(4)]
-                        .iter()
-                        .flat_map(|b| b.id)
-                        .take(count);
-                    for id in ids {
+                    for (id, tri) in leaf_triangles(w, c) {
                         seen[id as usize] += 1;
+                        // The leaf's box holds its triangles.
+                        for p in tri.into_iter().flatten() {
+                            assert!((0..3).all(|a| lo[a] <= p[a] && p[a] <= hi[a]), "{id}");
+                        }
                     }
                 } else {
                     stack.push((c as usize, Some((lo, hi))));
@@ -433,6 +609,175 @@ mod tests {
         }
         assert_eq!(visited, w.nodes.len());
         assert!(seen.iter().all(|&k| k == 1));
+    }
+
+    /// A leaf's primitives and their triangles (`None` for those called back), pairs expanded.
+    fn leaf_triangles<const W: usize>(
+        w: &WideBvh<W>,
+        leaf: node::Child,
+    ) -> Vec<(u32, Option<[Vec3; 3]>)> {
+        let (first, count) = node::leaf_range(leaf);
+        let blocks = first..first + count.div_ceil(4);
+        if leaf & node::QUADS == 0 {
+            let lanes = w.blocks[blocks]
+                .iter()
+                .flat_map(|b| (0..4).map(|l| (b.id[l], b.triangle(l))));
+            return lanes.take(count).collect();
+        }
+        let mut out = vec![];
+        for (k, q) in w.quads[blocks].iter().enumerate() {
+            for lane in 0..4.min(count - 4 * k) {
+                out.push((q.prim(lane), q.triangle(lane)));
+                if q.pair_mask() & (1 << lane) != 0 {
+                    out.push((q.prim(lane + 4), q.triangle(lane + 4)));
+                }
+            }
+        }
+        out
+    }
+
+    /// `n` small random quads in the cube, each split as a fan into `(a, b, c)` and `(a, c, d)`
+    /// (the pair the builder stores as one quad), except every fifth, whose second half is rotated
+    /// (no pair), and a lone triangle after every seventh.
+    fn quad_soup(n: usize, seed: u32) -> crate::geometry::TriangleMesh {
+        let mut r = crate::accel::testutil::Rng(seed);
+        let mut tris = vec![];
+        for k in 0..n {
+            let a = r.v(-1.0, 1.0);
+            let (u, v) = (r.v(-0.15, 0.15), r.v(-0.15, 0.15));
+            let (b, c, d) = (a + u, a + u + v + r.v(-0.02, 0.02), a + v);
+            tris.push([a, b, c]);
+            tris.push(if k % 5 == 4 { [c, d, a] } else { [a, c, d] });
+            if k % 7 == 6 {
+                tris.push([a, a + v, a - u]);
+            }
+        }
+        crate::accel::testutil::mesh(tris)
+    }
+
+    /// Trees over pairs: every primitive once, in a box that holds it; leaves of both kinds; and
+    /// the same answers as brute force on every path (8 wide with AVX2, the SSE fallback, 4 wide,
+    /// packets), with some primitives called back.
+    #[test]
+    fn trees_over_pairs_hold_every_triangle_once_and_agree_with_brute_force() {
+        let m = quad_soup(3000, 41);
+        let n = m.triangle_count();
+        let p = prims(&m);
+        assert!(crate::accel::bvh::pairs::pair_up(&p).is_some());
+        for width in [4, 8] {
+            let bvh = Bvh::build_with(
+                &p,
+                BvhOptions {
+                    width,
+                    ..Default::default()
+                },
+            );
+            let hits = agrees_with_brute(
+                &p,
+                &rays(600, 42),
+                |r, t, s| bvh.intersect(&p, r, t, s),
+                |r, t, s| bvh.occluded(&p, r, t, s),
+            );
+            assert!(hits > 300, "{hits}");
+            assert_eq!(bvh.stats().primitives, n);
+            let (quads, tris) = match &bvh.wide {
+                Wide::W4(w) => {
+                    well_formed(w, n);
+                    (w.quads.len(), w.blocks.len())
+                }
+                Wide::W8(w) => {
+                    well_formed(w, n);
+                    agrees_with_brute(
+                        &p,
+                        &rays(300, 43),
+                        |r, t, s| w.traverse_sized::<_, false, false>(&p, r, t, s),
+                        |r, t, s| w.traverse_sized::<_, true, false>(&p, r, t, s).is_some(),
+                    );
+                    (w.quads.len(), w.blocks.len())
+                }
+                Wide::Binary => unreachable!(),
+            };
+            // Most triangles sit in pair blocks, 26 bytes a triangle against 40.
+            assert!(quads * 8 > n / 2 && tris > 0, "{quads} {tris}");
+            // Off: triangle blocks only, and more bytes.
+            let unpaired = Bvh::build_with(
+                &p,
+                BvhOptions {
+                    width,
+                    pairs: false,
+                    ..Default::default()
+                },
+            );
+            if let Wide::W8(w) = &unpaired.wide {
+                assert!(w.quads.is_empty());
+                well_formed(w, n);
+            }
+            let (paired, unpaired) = (bvh.stats().bytes, unpaired.stats().bytes);
+            assert!(paired * 10 < unpaired * 9, "{paired} {unpaired}");
+        }
+        // Every ninth triangle called back: pairs only where both halves are triangles.
+        let mixed = EveryNth(prims(&m), 9);
+        let bvh = Bvh::build(&mixed);
+        let Wide::W8(w) = &bvh.wide else {
+            panic!("not 8 wide")
+        };
+        assert!(!w.quads.is_empty());
+        well_formed(w, n);
+        let hits = agrees_with_brute(
+            &mixed,
+            &rays(600, 44),
+            |r, t, s| bvh.intersect(&mixed, r, t, s),
+            |r, t, s| bvh.occluded(&mixed, r, t, s),
+        );
+        assert!(hits > 300, "{hits}");
+    }
+
+    /// Rays in packets through a tree over pairs answer as single rays do.
+    #[test]
+    fn packets_through_pairs_agree_with_single_rays() {
+        let m = quad_soup(4000, 45);
+        let p = prims(&m);
+        let bvh = Bvh::build(&p);
+        if !bvh.has_packets() {
+            return; // no AVX2 here: packets go ray by ray
+        }
+        let eye = Vec3::new(0.1, 0.2, -4.0);
+        let rays: Vec<Ray> = (0..64 * 8)
+            .map(|k| {
+                let (x, y) = ((k % 64) as f32 / 64.0 - 0.5, (k / 64) as f32 / 8.0 - 0.5);
+                Ray::new(eye, Vec3::new(x, y, 1.5))
+            })
+            .collect();
+        let mut s = crate::accel::TraversalStats::default();
+        let mut hits = 0;
+        for chunk in rays.chunks(super::PACKET) {
+            let mut out = vec![None; chunk.len()];
+            bvh.intersect_packet(&p, chunk, f32::INFINITY, &mut out, &mut s);
+            for (r, o) in chunk.iter().zip(&out) {
+                assert_eq!(*o, bvh.intersect(&p, r, f32::INFINITY, &mut s));
+                hits += o.is_some() as usize;
+            }
+        }
+        assert!(hits > 100, "{hits}");
+    }
+
+    /// Triangles whose index is a multiple of `.1` are "other" primitives, tested through the call
+    /// back.
+    struct EveryNth<'a>(MeshPrimitives<'a>, usize);
+
+    impl Primitives for EveryNth<'_> {
+        fn count(&self) -> usize {
+            self.0.count()
+        }
+        fn bounds(&self, i: usize) -> crate::math::Aabb {
+            self.0.bounds(i)
+        }
+        fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+            self.0.intersect(i, ray, t_max)
+        }
+        fn watertight_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+            (!i.is_multiple_of(self.1)).then(|| self.0.mesh.vertices(i))
+        }
     }
 
     #[test]

@@ -5,17 +5,21 @@
 /// A child slot: an interior node's index, a leaf, or nothing.
 pub(crate) type Child = u64;
 
-/// Tag bit of a leaf slot: `LEAF | [NO_TRIANGLES] | primitive_count << 32 | first_block`.
+/// Tag bit of a leaf slot: `LEAF | [NO_TRIANGLES | QUADS] | count << 32 | first_block`, `count` the
+/// lanes of its blocks in use (primitives, or for `QUADS` pairs and lone triangles).
 pub(crate) const LEAF: Child = 1 << 63;
 /// Set on a leaf none of whose primitives is a gathered triangle: traversal calls each back without
 /// running the triangle filter.
 pub(crate) const NO_TRIANGLES: Child = 1 << 62;
+/// Set on a leaf of [`super::quad_block::QuadBlock`]s (`first_block` indexes those), clear on one
+/// of [`super::TriBlock`]s.
+pub(crate) const QUADS: Child = 1 << 61;
 /// An unused slot (its box is empty, so no ray ever reaches it).
 pub(crate) const EMPTY: Child = u64::MAX;
 
 #[inline(always)]
 pub(crate) fn leaf(first_block: u32, count: u32) -> Child {
-    debug_assert!(count < 1 << 30);
+    debug_assert!(count < 1 << 29);
     LEAF | (count as u64) << 32 | first_block as u64
 }
 
@@ -29,7 +33,7 @@ pub(crate) fn is_leaf(c: Child) -> bool {
 pub(crate) fn leaf_range(c: Child) -> (usize, usize) {
     (
         (c & 0xffff_ffff) as usize,
-        ((c >> 32) & 0x3fff_ffff) as usize,
+        ((c >> 32) & 0x1fff_ffff) as usize,
     )
 }
 

@@ -6,8 +6,9 @@
 //! `W = 4`, the slab tests run four lanes at a time in SSE (part of every x86_64), or lane by lane
 //! on other targets.
 
-use super::leaf::test_blocks;
+use super::leaf::{test_blocks, test_quads};
 use super::node::{self, Child, WideNode};
+use super::quad_block::QuadBlock;
 use super::tri_block::{LaneValues, RayTri, TriBlock};
 use super::WideBvh;
 use crate::accel::bvh::far_scale;
@@ -258,6 +259,13 @@ impl<const W: usize> WideBvh<W> {
         stats: &mut TraversalStats,
     ) {
         let (first, count) = node::leaf_range(leaf);
+        if !COMPACT && leaf & node::QUADS != 0 {
+            // SAFETY: the builder wrote this leaf's blocks, `first..first + ceil(count / 4)`.
+            let quads = unsafe { self.quads.get_unchecked(first..first + count.div_ceil(4)) };
+            let rt = rt.get_or_insert_with(|| RayTri::new(ray));
+            test_quads::<P, ANY, AVX>(quads, count, rt, prims, ray, t_max, best, stats);
+            return;
+        }
         stats.prim_tests += count as u64;
         if COMPACT {
             self.compact_leaf::<P, ANY, AVX>(leaf, rt, prims, ray, t_max, best, stats);
@@ -347,14 +355,20 @@ impl<const W: usize> WideBvh<W> {
         }
     }
 
-    /// Asks for a waiting child's node (or its leaf's first two blocks: most leaves hold up to
-    /// eight triangles) to be brought into the cache while the nearer children are visited.
+    /// Asks for a waiting child's node (or its leaf's first two triangle blocks or first block of
+    /// pairs: most leaves hold up to eight triangles) to be brought into the cache while the
+    /// nearer children are visited.
     #[inline(always)]
     fn prefetch_child(&self, child: Child) {
         if node::is_leaf(child) {
             let (first, _) = node::leaf_range(child);
-            let at = self.blocks.as_ptr().wrapping_add(first);
-            crate::accel::prefetch(at, 2 * std::mem::size_of::<TriBlock>());
+            if child & node::QUADS != 0 {
+                let at = self.quads.as_ptr().wrapping_add(first);
+                crate::accel::prefetch(at, std::mem::size_of::<QuadBlock>());
+            } else {
+                let at = self.blocks.as_ptr().wrapping_add(first);
+                crate::accel::prefetch(at, 2 * std::mem::size_of::<TriBlock>());
+            }
         } else {
             let at = self.nodes.as_ptr().wrapping_add(child as usize);
             crate::accel::prefetch(at, std::mem::size_of::<WideNode<W>>());

@@ -67,6 +67,16 @@ impl TriBlock {
         Self::new(&lanes[..ids.len()])
     }
 
+    /// Copies lane 0 into lanes `used..4` (a leaf's last block).
+    pub fn pad_from(&mut self, used: usize) {
+        for lane in used..4 {
+            self.id[lane] = self.id[0];
+            for row in &mut self.v {
+                row[lane] = row[0];
+            }
+        }
+    }
+
     /// Whether any lane holds a triangle (rather than a called-back primitive).
     pub fn has_triangle(&self) -> bool {
         self.v[0].iter().any(|x| !x.is_nan())
@@ -87,15 +97,16 @@ impl TriBlock {
     }
 }
 
-/// The filter's body over any lane width: `$row(r)` loads row `r` of the block(s). Each step is
-/// the scalar test's operation, in its order.
+/// The filter's body over any lane width: `$row(k, axis)` loads coordinate `axis` of the lanes'
+/// vertex `k` (0, 1 or 2 of each lane's triangle). Each step is the scalar test's operation, in
+/// its order. `$store(r, v)` is handed the intermediate rows of [`LaneValues`] when a lane is kept.
 #[cfg(target_arch = "x86_64")]
 macro_rules! filter {
     ($rt:expr, $t_max:expr, $row:expr, $store:expr) => {{
         let rt: &RayTri = $rt;
         let row = $row;
         let mut put = $store;
-        let ld = |k: usize, a: usize| row(3 * k + rt.k[a]);
+        let ld = |k: usize, a: usize| row(k, rt.k[a]);
         let [ox, oy, oz] = rt.o.map(|x| splat(x));
         let [sx, sy, sz] = rt.s.map(|x| splat(x));
         // Translate to the ray origin, permute, shear (pbrt-v4 eq. 6.5 onwards).
@@ -167,7 +178,7 @@ impl LaneValues {
 
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn row_ptr(&mut self, row: usize) -> *mut f32 {
+    pub(super) fn row_ptr(&mut self, row: usize) -> *mut f32 {
         self.r[row].as_mut_ptr().cast()
     }
 
@@ -220,9 +231,10 @@ pub unsafe fn finish(
 /// the axis of the largest direction component) and shear.
 #[derive(Clone, Copy, Debug)]
 pub struct RayTri {
-    k: [usize; 3],
-    o: [f32; 3],
-    s: [f32; 3],
+    // Visible to `quad_block`, which runs the same filter macro.
+    pub(super) k: [usize; 3],
+    pub(super) o: [f32; 3],
+    pub(super) s: [f32; 3],
 }
 
 impl RayTri {
@@ -278,7 +290,7 @@ impl RayTri {
                 self,
                 t_max,
                 // Unchecked: a checked index was a compare and branch per row.
-                |row: usize| load(b.v.get_unchecked(row).as_ptr()),
+                |k: usize, axis: usize| load(b.v.get_unchecked(3 * k + axis).as_ptr()),
                 |r: usize, v| store(out.row_ptr(r), v)
             )
         }
@@ -302,10 +314,10 @@ impl RayTri {
         filter!(
             self,
             t_max,
-            // SAFETY (the indexing): `row < 9`, as in `candidates_sse`.
-            |row: usize| load2(
-                b.v.get_unchecked(row).as_ptr(),
-                a.v.get_unchecked(row).as_ptr()
+            // SAFETY (the indexing): `3 k + axis < 9`, as in `candidates_sse`.
+            |k: usize, axis: usize| load2(
+                b.v.get_unchecked(3 * k + axis).as_ptr(),
+                a.v.get_unchecked(3 * k + axis).as_ptr()
             ),
             |r: usize, v| store(out.row_ptr(r), v)
         )
@@ -314,6 +326,18 @@ impl RayTri {
     /// The same filter one lane at a time, for targets without the SSE path.
     #[cfg_attr(target_arch = "x86_64", allow(dead_code))]
     fn candidates_scalar(&self, b: &TriBlock, t_max: f32, out: &mut LaneValues) -> u32 {
+        self.candidates_scalar_at(b, t_max, out, 0)
+    }
+
+    /// [`Self::candidates_scalar`], the values written to lanes `first_lane..first_lane + 4`.
+    #[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+    pub(super) fn candidates_scalar_at(
+        &self,
+        b: &TriBlock,
+        t_max: f32,
+        out: &mut LaneValues,
+        first_lane: usize,
+    ) -> u32 {
         let mut mask = 0;
         for lane in 0..4 {
             let ld = |k: usize, a: usize| b.v[3 * k + self.k[a]][lane];
@@ -341,7 +365,7 @@ impl RayTri {
                 .into_iter()
                 .enumerate()
             {
-                out.set(r, lane, v);
+                out.set(r, first_lane + lane, v);
             }
             let loose = t_max * det * (1.0 + 4.0 * f32::EPSILON);
             let reject_t = det == 0.0

@@ -1,0 +1,133 @@
+//! Triangles paired with their neighbour in the primitive order, for the wide BVH to build over and
+//! store as quads (`wide/quad_block.rs`), as Embree does for quad meshes: a mesh of quads gives the
+//! builder half the records to sort and its leaves four vertices to store per two triangles.
+//!
+//! Primitive `i + 1` pairs with `i` when both are watertight-tested triangles and the second is
+//! `(p0, p2, p3)` of the first's `(p0, p1, p2)`, bit for bit: the two halves of a quad
+//! triangulated as a fan, which is what the OBJ and PLY loaders and the scene generators emit.
+//! The pair's block then tests each triangle from its own three vertices in its own order, so the
+//! hits are exactly those of testing them one by one.
+
+use super::wide::PAIR;
+use crate::accel::Primitives;
+use crate::math::{Aabb, Vec3};
+use rayon::prelude::*;
+
+/// The items a BVH over pairs is built over, in the primitives' order: each a primitive id, with
+/// [`PAIR`] set where the item is that primitive and the next. `None` where pairing does not pay:
+/// fewer than half of the triangles pair (a mesh made of triangles rather than quads), or too many
+/// primitives for the flag bit and the lane numbering of the blocks.
+pub(crate) fn pair_up<P: Primitives>(prims: &P) -> Option<Vec<u32>> {
+    let n = prims.count();
+    if n < 2 || n >= PAIR as usize / 4 {
+        return None;
+    }
+    // Which primitives pair with their successor, in parallel; then the choice, in order: a
+    // primitive already taken by its predecessor does not pair again.
+    let with_next: Vec<bool> = (0..n - 1)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|i| pairs_with_next(prims, i))
+        .collect();
+    let pairs = {
+        let mut pairs = 0;
+        let mut i = 0;
+        while i + 1 < n {
+            if with_next[i] {
+                pairs += 1;
+                i += 2;
+            } else {
+                i += 1;
+            }
+        }
+        pairs
+    };
+    if 4 * pairs < n {
+        return None;
+    }
+    let mut items = Vec::with_capacity(n - pairs);
+    let mut i = 0;
+    while i < n {
+        if i + 1 < n && with_next[i] {
+            items.push(i as u32 | PAIR);
+            i += 2;
+        } else {
+            items.push(i as u32);
+            i += 1;
+        }
+    }
+    Some(items)
+}
+
+/// The bounds of item `code` (see [`pair_up`]).
+#[inline]
+pub(crate) fn item_bounds<P: Primitives>(prims: &P, code: u32) -> Aabb {
+    let id = (code & !PAIR) as usize;
+    let b = prims.bounds(id);
+    if code & PAIR != 0 {
+        b.union(prims.bounds(id + 1))
+    } else {
+        b
+    }
+}
+
+fn pairs_with_next<P: Primitives>(prims: &P, i: usize) -> bool {
+    let same = |a: Vec3, b: Vec3| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
+    match (
+        prims.watertight_triangle(i),
+        prims.watertight_triangle(i + 1),
+    ) {
+        (Some(a), Some(b)) => same(a[0], b[0]) && same(a[2], b[1]),
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::testutil::{mesh, prims, soup};
+    use crate::accel::MeshPrimitives;
+    use crate::geometry::TriangleTest;
+
+    fn quad(c: Vec3) -> [[Vec3; 3]; 2] {
+        let [a, b, d] = [c + Vec3::X, c + Vec3::X + Vec3::Y, c + Vec3::Y];
+        [[c, a, b], [c, b, d]]
+    }
+
+    #[test]
+    fn fan_halves_pair_and_nothing_else_does() {
+        // Two quads, then a triangle, then a quad whose second half is rotated (not the pattern),
+        // then a quad.
+        let mut tris: Vec<[Vec3; 3]> = Vec::new();
+        tris.extend(quad(Vec3::ZERO));
+        tris.extend(quad(Vec3::Z));
+        tris.push([Vec3::ZERO, Vec3::X, Vec3::Z]);
+        let [p, q] = quad(Vec3::Y);
+        tris.extend([p, [q[1], q[2], q[0]]]);
+        tris.extend(quad(-Vec3::Z));
+        let m = mesh(tris);
+        let items = pair_up(&prims(&m)).expect("three pairs among nine triangles");
+        assert_eq!(
+            items,
+            vec![PAIR, 2 | PAIR, 4, 5, 6, 7 | PAIR],
+            "{:x?}",
+            items
+        );
+        assert_eq!(
+            item_bounds(&prims(&m), PAIR),
+            Aabb::new(Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0))
+        );
+        // Triangles tested otherwise than watertight never pair.
+        let moller = MeshPrimitives {
+            mesh: &m,
+            test: TriangleTest::Moller,
+        };
+        assert_eq!(pair_up(&moller), None);
+    }
+
+    #[test]
+    fn meshes_of_triangles_are_not_paired() {
+        assert_eq!(pair_up(&prims(&soup(1000, 3))), None);
+        assert_eq!(pair_up(&prims(&soup(1, 3))), None);
+    }
+}
