@@ -61,6 +61,10 @@ pub struct BenchArgs {
     /// vertices.
     #[arg(long)]
     bvh_compact: bool,
+    /// Build the BVH over single triangles even where a mesh is made of quads (`[render.bvh]
+    /// pairs = false`), to compare.
+    #[arg(long)]
+    bvh_no_pairs: bool,
 }
 
 /// More threads than this is a typo, not a machine.
@@ -88,6 +92,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     })?;
     let mut target = load_target(&args.target, args.triangles, w, h, &args.view)?;
     target.accel_options.bvh.compact |= args.bvh_compact;
+    target.accel_options.bvh.pairs &= !args.bvh_no_pairs;
     let options = BenchOptions {
         build_runs: args.builds,
         trace_runs: args.runs,

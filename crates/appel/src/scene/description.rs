@@ -108,6 +108,8 @@ pub struct BvhDesc {
     pub max_leaf: Option<u32>,
     /// Widths 4 and 8: leaves hold primitive ids only, not vertices (less memory, slower rays).
     pub compact: Option<bool>,
+    /// Widths 4 and 8: build over pairs of triangles sharing an edge where a mesh is made of quads.
+    pub pairs: Option<bool>,
 }
 
 /// `[render.grid]`.

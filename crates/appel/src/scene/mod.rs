@@ -67,6 +67,7 @@ fn accel_options(r: &description::RenderDesc) -> AccelOptions {
         o.bvh.max_leaf = b.max_leaf.map_or(o.bvh.max_leaf, |v| v as usize);
         o.bvh.leaf_size = o.bvh.leaf_size.min(o.bvh.max_leaf);
         o.bvh.compact = b.compact.unwrap_or(o.bvh.compact);
+        o.bvh.pairs = b.pairs.unwrap_or(o.bvh.pairs);
     }
     if let Some(d) = r.grid.as_ref().and_then(|g| g.density) {
         o.grid.density = d;

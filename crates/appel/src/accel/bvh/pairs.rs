@@ -4,11 +4,12 @@
 //!
 //! Primitive `i + 1` pairs with `i` when both are watertight-tested triangles and the second is
 //! `(p0, p2, p3)` of the first's `(p0, p1, p2)`, bit for bit: the two halves of a quad
-//! triangulated as a fan, which is what the OBJ and PLY loaders and the scene generators emit.
-//! The pair's block then tests each triangle from its own three vertices in its own order, so the
-//! hits are exactly those of testing them one by one.
+//! triangulated as a fan, which is what the OBJ and PLY loaders and the scene generators emit (or
+//! the same two the other way round, flagged [`SWAP`]). The pair's block then tests each triangle
+//! from its own three vertices in its own order, so the hits are exactly those of testing them
+//! one by one.
 
-use super::wide::PAIR;
+use super::wide::{ID, PAIR, SWAP};
 use crate::accel::Primitives;
 use crate::math::{Aabb, Vec3};
 use rayon::prelude::*;
@@ -24,7 +25,7 @@ pub(crate) fn pair_up<P: Primitives>(prims: &P) -> Option<Vec<u32>> {
     }
     // Which primitives pair with their successor, in parallel; then the choice, in order: a
     // primitive already taken by its predecessor does not pair again.
-    let with_next: Vec<bool> = (0..n - 1)
+    let with_next: Vec<Pairing> = (0..n - 1)
         .into_par_iter()
         .with_min_len(4096)
         .map(|i| pairs_with_next(prims, i))
@@ -33,7 +34,7 @@ pub(crate) fn pair_up<P: Primitives>(prims: &P) -> Option<Vec<u32>> {
         let mut pairs = 0;
         let mut i = 0;
         while i + 1 < n {
-            if with_next[i] {
+            if with_next[i] != Pairing::None {
                 pairs += 1;
                 i += 2;
             } else {
@@ -48,8 +49,13 @@ pub(crate) fn pair_up<P: Primitives>(prims: &P) -> Option<Vec<u32>> {
     let mut items = Vec::with_capacity(n - pairs);
     let mut i = 0;
     while i < n {
-        if i + 1 < n && with_next[i] {
-            items.push(i as u32 | PAIR);
+        let with = if i + 1 < n {
+            with_next[i]
+        } else {
+            Pairing::None
+        };
+        if with != Pairing::None {
+            items.push(i as u32 | PAIR | if with == Pairing::Swapped { SWAP } else { 0 });
             i += 2;
         } else {
             items.push(i as u32);
@@ -62,7 +68,7 @@ pub(crate) fn pair_up<P: Primitives>(prims: &P) -> Option<Vec<u32>> {
 /// The bounds of item `code` (see [`pair_up`]).
 #[inline]
 pub(crate) fn item_bounds<P: Primitives>(prims: &P, code: u32) -> Aabb {
-    let id = (code & !PAIR) as usize;
+    let id = (code & ID) as usize;
     let b = prims.bounds(id);
     if code & PAIR != 0 {
         b.union(prims.bounds(id + 1))
@@ -71,14 +77,25 @@ pub(crate) fn item_bounds<P: Primitives>(prims: &P, code: u32) -> Aabb {
     }
 }
 
-fn pairs_with_next<P: Primitives>(prims: &P, i: usize) -> bool {
+/// How primitive `i` pairs with `i + 1`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Pairing {
+    None,
+    /// `(p0, p1, p2)` then `(p0, p2, p3)`.
+    InOrder,
+    /// `(p0, p2, p3)` then `(p0, p1, p2)`.
+    Swapped,
+}
+
+fn pairs_with_next<P: Primitives>(prims: &P, i: usize) -> Pairing {
     let same = |a: Vec3, b: Vec3| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits);
     match (
         prims.watertight_triangle(i),
         prims.watertight_triangle(i + 1),
     ) {
-        (Some(a), Some(b)) => same(a[0], b[0]) && same(a[2], b[1]),
-        _ => false,
+        (Some(a), Some(b)) if same(a[0], b[0]) && same(a[2], b[1]) => Pairing::InOrder,
+        (Some(a), Some(b)) if same(a[0], b[0]) && same(a[1], b[2]) => Pairing::Swapped,
+        _ => Pairing::None,
     }
 }
 
@@ -105,11 +122,14 @@ mod tests {
         let [p, q] = quad(Vec3::Y);
         tris.extend([p, [q[1], q[2], q[0]]]);
         tris.extend(quad(-Vec3::Z));
+        // The two halves the other way round.
+        let [p, q] = quad(Vec3::X);
+        tris.extend([q, p]);
         let m = mesh(tris);
-        let items = pair_up(&prims(&m)).expect("three pairs among nine triangles");
+        let items = pair_up(&prims(&m)).expect("four pairs among eleven triangles");
         assert_eq!(
             items,
-            vec![PAIR, 2 | PAIR, 4, 5, 6, 7 | PAIR],
+            vec![PAIR, 2 | PAIR, 4, 5, 6, 7 | PAIR, 9 | PAIR | SWAP],
             "{:x?}",
             items
         );

@@ -18,7 +18,7 @@ mod traverse;
 pub(crate) use leaf::test_blocks;
 pub use node::WideNode;
 pub use packet::PACKET;
-pub use quad_block::{QuadBlock, PAIR};
+pub use quad_block::{QuadBlock, ID, PAIR, SWAP};
 pub(crate) use tri_block::RayTri;
 pub use tri_block::TriBlock;
 
@@ -258,7 +258,7 @@ fn scatter_paired<P: Primitives, const W: usize>(
         .zip(items)
         .with_min_len(4096)
         .for_each(|(&lane, &code)| {
-            let id = code & !PAIR;
+            let id = code & ID;
             let first = prims.watertight_triangle(id as usize);
             if first.is_none() {
                 called_back.store(true, Relaxed);
@@ -273,7 +273,11 @@ fn scatter_paired<P: Primitives, const W: usize>(
             // triangle block onto two), all inside the blocks allocated above.
             unsafe {
                 if lane & PAIR != 0 {
-                    let quad = first.map(|t| [t[0], t[1], t[2], second.map_or(t[2], |s| s[2])]);
+                    let quad = first.map(|t| match second {
+                        None => [t[0], t[1], t[2], t[2]],
+                        Some(s) if code & SWAP != 0 => [t[0], s[1], t[1], t[2]],
+                        Some(s) => [t[0], t[1], t[2], s[2]],
+                    });
                     quad_lanes.write(at, code, quad);
                 } else {
                     tri_lanes.write(at, id, first);
@@ -647,7 +651,12 @@ mod tests {
             let (u, v) = (r.v(-0.15, 0.15), r.v(-0.15, 0.15));
             let (b, c, d) = (a + u, a + u + v + r.v(-0.02, 0.02), a + v);
             tris.push([a, b, c]);
-            tris.push(if k % 5 == 4 { [c, d, a] } else { [a, c, d] });
+            match k % 5 {
+                4 => tris.push([c, d, a]),
+                // The halves the other way round: paired too.
+                3 => tris.insert(tris.len() - 1, [a, c, d]),
+                _ => tris.push([a, c, d]),
+            }
             if k % 7 == 6 {
                 tris.push([a, a + v, a - u]);
             }

@@ -17,6 +17,11 @@ use crate::math::Vec3;
 /// Set in [`QuadBlock::id`] where the lane holds the pair of triangles `id` and `id + 1`, clear
 /// where it holds triangle `id` alone (or a primitive that is called back).
 pub const PAIR: u32 = 1 << 31;
+/// Set beside [`PAIR`] where the pair comes in the other order: `id` is `(p0, p2, p3)` and `id + 1`
+/// is `(p0, p1, p2)` (the terrain of `appel gen ecosystem` is triangulated so).
+pub const SWAP: u32 = 1 << 30;
+/// The primitive id in a [`QuadBlock::id`] entry.
+pub const ID: u32 = !(PAIR | SWAP);
 
 /// Which of a lane's four vertices make its first (`CORNERS[0]`) and second triangle.
 const CORNERS: [[usize; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
@@ -29,7 +34,8 @@ const CORNERS: [[usize; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
 #[derive(Clone, Copy, Debug, bytemuck::Zeroable)]
 pub struct QuadBlock {
     pub v: [[f32; 4]; 12],
-    /// The lane's first primitive id, with [`PAIR`] set when `id + 1` is its second triangle.
+    /// The lane's smaller primitive id, with [`PAIR`] set when it holds `id + 1` too, and
+    /// [`SWAP`] when `id + 1` is its first triangle `(p0, p1, p2)` rather than its second.
     pub id: [u32; 4],
 }
 
@@ -115,7 +121,8 @@ impl QuadBlock {
     /// second).
     #[inline(always)]
     pub fn prim(&self, bit: usize) -> u32 {
-        (self.id[bit & 3] & !PAIR) + (bit >> 2) as u32
+        let id = self.id[bit & 3];
+        (id & ID) + ((bit >> 2) as u32 ^ (id & SWAP) >> 30)
     }
 
     /// The triangle of filter lane `bit`, or `None` for a called-back primitive.
@@ -320,12 +327,14 @@ mod tests {
     #[test]
     fn padding_repeats_lane_zero_and_called_back_lanes_are_nan() {
         let q = [Vec3::ZERO, Vec3::X, Vec3::ONE, Vec3::Y];
-        let b = QuadBlock::new(&[(5 | PAIR, Some(q)), (9, None)]);
-        assert_eq!(b.id, [5 | PAIR, 9, 5 | PAIR, 5 | PAIR]);
+        let b = QuadBlock::new(&[(5 | PAIR, Some(q)), (9, None), (12 | PAIR | SWAP, Some(q))]);
+        assert_eq!(b.id, [5 | PAIR, 9, 12 | PAIR | SWAP, 5 | PAIR]);
         assert_eq!(b.pair_mask(), 0b1101);
         assert_eq!(b.triangle(1), None);
         assert_eq!(b.triangle(4), Some([q[0], q[2], q[3]]));
-        assert_eq!(b.prim(4), 6);
+        assert_eq!([b.prim(0), b.prim(4), b.prim(1)], [5, 6, 9]);
+        // Swapped: the first triangle `(p0, p1, p2)` is the later id.
+        assert_eq!([b.prim(2), b.prim(6)], [13, 12]);
         assert!(b.has_triangle());
         assert!(!QuadBlock::new(&[(1, None)]).has_triangle());
     }
