@@ -126,6 +126,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     for kind in kinds {
         let r = bench_accel(&target, &rays, kind, &options);
         print_result(&r, args.json)?;
+        notes.push(memory_note(&r));
         if let (Some(one), Some(all)) = (r.packet8_mrays_1t, r.packet8_mrays) {
             notes.push(format!(
                 "{}: camera rays in packets of 8: {} / {} Mrays/s ({} of {} hits differ from single rays')",
@@ -159,6 +160,27 @@ pub fn run(args: BenchArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// What the structure and its scene take once built, and the process's peak while it was built.
+fn memory_note(r: &BenchResult) -> String {
+    let mb = |b: f64| b / 1e6;
+    let total = (r.bytes + r.scene_bytes) as f64;
+    let peak = r.build_peak_rss.map_or(String::new(), |p| {
+        format!(
+            "; peak resident during the build {:.0} MB, {:.2}x that",
+            mb(p as f64),
+            p as f64 / total.max(1.0)
+        )
+    });
+    format!(
+        "{}: memory {:.0} MB ({:.0} MB structure + {:.0} MB meshes and primitive list), {:.1} bytes per triangle{peak}",
+        r.accel,
+        mb(total),
+        mb(r.bytes as f64),
+        mb(r.scene_bytes as f64),
+        r.bytes_per_triangle
+    )
 }
 
 /// `bvh,kdtree` to the structures it names.

@@ -37,8 +37,5 @@ pub fn check_memory(d: &Description, base_dir: &Path) -> Result<()> {
 
 /// Peak resident memory of this process so far (`VmHWM`), in bytes, where the kernel reports it.
 pub fn peak_rss_bytes() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = text.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
+    appel::bench::rss::peak_bytes()
 }

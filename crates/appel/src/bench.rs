@@ -3,6 +3,7 @@
 //! all of them; and the same figures for Embree on the same rays ([`embree`]).
 
 mod embree;
+pub mod rss;
 pub use embree::{bench_embree, flat_triangles, EmbreeBenchOptions, FlatTriangles};
 
 use crate::accel::{Accel, AccelKind, AccelOptions, TraversalStats};
@@ -87,6 +88,15 @@ pub struct BenchResult {
     /// Median build time over the build runs.
     pub build_ms: f64,
     pub bytes: usize,
+    /// Bytes of what the structure is built over: the scene's meshes and primitive list
+    /// ([`Geometry::bytes`]). With `bytes`, the scene's final size.
+    pub scene_bytes: usize,
+    /// `(bytes + scene_bytes) / triangles`.
+    pub bytes_per_triangle: f64,
+    /// The process's peak resident memory during the first build (scene, structure, the builder's
+    /// scratch and the benchmark's rays), where the system reports it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub build_peak_rss: Option<u64>,
     pub depth: usize,
     /// Closest-hit Mrays/s on camera rays, with all `threads`.
     pub primary_mrays: f64,
@@ -263,10 +273,16 @@ pub fn bench_accel(
     let g = &target.geometry;
     let mut builds = vec![];
     let mut accel = None;
-    for _ in 0..o.build_runs.max(1) {
+    let mut build_peak_rss = None;
+    for run in 0..o.build_runs.max(1) {
+        // The first build's peak: later ones run while the structure before them is held.
+        let measure_peak = run == 0 && rss::reset_peak();
         let start = Instant::now();
         let a = Accel::build_with(kind, g, &target.accel_options);
         builds.push(start.elapsed().as_secs_f64() * 1e3);
+        if measure_peak {
+            build_peak_rss = rss::peak_bytes();
+        }
         accel = Some(a);
     }
     let accel = accel.expect("at least one build");
@@ -360,6 +376,9 @@ pub fn bench_accel(
         primitives: g.prims.len(),
         build_ms: median(builds),
         bytes: stats.bytes,
+        scene_bytes: g.bytes(),
+        bytes_per_triangle: (stats.bytes + g.bytes()) as f64 / g.triangle_count().max(1) as f64,
+        build_peak_rss,
         depth: stats.depth,
         primary_mrays: throughput(&all, &primary, 1, runs, closest),
         incoherent_mrays: throughput(&all, &incoherent, 1, runs, closest),

@@ -101,6 +101,15 @@ pub fn bench_embree(
         primitives: g.prims.len(),
         build_ms: median(builds),
         bytes: scene.bytes,
+        // The flat arrays Embree shares (it keeps no copy of them).
+        scene_bytes: std::mem::size_of_val(positions.as_slice())
+            + std::mem::size_of_val(indices.as_slice()),
+        bytes_per_triangle: (scene.bytes
+            + std::mem::size_of_val(positions.as_slice())
+            + std::mem::size_of_val(indices.as_slice())) as f64
+            / g.triangle_count().max(1) as f64,
+        // Appel's own scene shares the process: a peak would not be Embree's alone.
+        build_peak_rss: None,
         depth: 0,
         primary_mrays: throughput(&all, &rays.primary, 1, runs, closest),
         incoherent_mrays: throughput(&all, &rays.incoherent, 1, runs, closest),

@@ -16,6 +16,15 @@ impl TriangleMesh {
         self.indices.len()
     }
 
+    /// Bytes of its arrays (their lengths, not capacities).
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(self.positions.as_slice())
+            + size_of_val(self.indices.as_slice())
+            + self.normals.as_deref().map_or(0, size_of_val)
+            + self.uvs.as_deref().map_or(0, size_of_val)
+    }
+
     #[inline]
     pub fn vertices(&self, tri: usize) -> [Vec3; 3] {
         let [a, b, c] = self.indices[tri];

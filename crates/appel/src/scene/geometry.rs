@@ -376,6 +376,18 @@ impl Geometry {
                 .sum::<usize>()
     }
 
+    /// Bytes of what the structures are built over: the meshes (the prototypes' too) and the
+    /// primitive list; not the structures themselves (nor the prototypes'), which report their own.
+    pub fn bytes(&self) -> usize {
+        self.meshes.iter().map(TriangleMesh::bytes).sum::<usize>()
+            + self.prims.bytes()
+            + self
+                .prototypes
+                .iter()
+                .map(|p| p.geometry.bytes())
+                .sum::<usize>()
+    }
+
     /// Triangles as rendered: each instance counts its prototype's triangles once more.
     pub fn instanced_triangle_count(&self) -> u64 {
         let per_prototype: Vec<u64> = self

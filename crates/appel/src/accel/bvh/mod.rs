@@ -90,25 +90,28 @@ impl Bvh {
         };
         bvh.measure(&build_opts);
         bvh.stats.primitives = n;
+        /// The wide tree, the binary nodes freed before its leaves are filled.
         fn collapse<P: Primitives, const W: usize>(
             prims: &P,
-            bvh: &Bvh,
+            bvh: &mut Bvh,
             items: &Option<Vec<u32>>,
             compact: bool,
         ) -> WideBvh<W> {
+            let c = WideBvh::collapse(&bvh.nodes);
+            bvh.nodes = Vec::new();
             match items {
-                Some(items) => WideBvh::from_binary_paired(prims, &bvh.nodes, &bvh.indices, items),
-                None => WideBvh::from_binary_with(prims, &bvh.nodes, &bvh.indices, compact),
+                Some(items) => WideBvh::from_collapsed_paired(prims, c, &bvh.indices, items),
+                None => WideBvh::from_collapsed(prims, c, &bvh.indices, compact),
             }
         }
         let (bytes, counts, wide) = match opts.width {
             2 => return bvh,
             4 => {
-                let w = collapse::<P, 4>(prims, &bvh, &items, opts.compact);
+                let w = collapse::<P, 4>(prims, &mut bvh, &items, opts.compact);
                 (w.bytes(), w.counts(), Wide::W4(w))
             }
             _ => {
-                let w = collapse::<P, 8>(prims, &bvh, &items, opts.compact);
+                let w = collapse::<P, 8>(prims, &mut bvh, &items, opts.compact);
                 (w.bytes(), w.counts(), Wide::W8(w))
             }
         };
