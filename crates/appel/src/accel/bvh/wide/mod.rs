@@ -48,6 +48,8 @@ pub struct WideBvh<const W: usize> {
     common: bool,
     /// Whether traversal prefetches the children it pushes ([`crate::accel::PREFETCH_BYTES`]).
     prefetch: bool,
+    /// The traversal rays take.
+    path: traverse::Path,
 }
 
 /// A leaf's primitives before their vertices are gathered: a range of the binary tree's index array.
@@ -451,8 +453,10 @@ impl<const W: usize> WideBvh<W> {
             ids,
             depth: c.depth,
             root_leaf,
+            path: traverse::Path::Empty,
         };
         tree.prefetch = tree.bytes() > crate::accel::PREFETCH_BYTES;
+        tree.path = traverse::Path::of(&tree);
         tree
     }
 

@@ -22,7 +22,7 @@ use crate::math::Ray;
 #[cfg(target_arch = "x86_64")]
 use {
     super::node::{self, Child},
-    super::traverse::stack_need,
+    super::traverse::{stack_need, BLOCKS, PAIRS},
     super::tri_block::RayTri,
     crate::accel::bvh::far_scale,
     crate::accel::has_avx2,
@@ -71,11 +71,15 @@ impl WideBvh<8> {
         assert!(rays.len() <= PACKET && out.len() >= rays.len());
         // SAFETY: `has_packets` checked for AVX2.
         #[cfg(target_arch = "x86_64")]
-        if !rays.is_empty()
-            && self.has_packets()
-            && unsafe { self.packet_avx2(prims, rays, t_max, out, stats) }
-        {
-            return;
+        if !rays.is_empty() && self.has_packets() {
+            let done = if self.quads.is_empty() {
+                unsafe { self.packet_avx2::<P, BLOCKS>(prims, rays, t_max, out, stats) }
+            } else {
+                unsafe { self.packet_avx2::<P, PAIRS>(prims, rays, t_max, out, stats) }
+            };
+            if done {
+                return;
+            }
         }
         for (ray, o) in rays.iter().zip(out.iter_mut()) {
             *o = self.traverse::<P, false>(prims, ray, t_max, stats);
@@ -86,7 +90,7 @@ impl WideBvh<8> {
     /// all share one octant.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn packet_avx2<P: Primitives>(
+    unsafe fn packet_avx2<P: Primitives, const LEAVES: u8>(
         &self,
         prims: &P,
         rays: &[Ray],
@@ -150,7 +154,7 @@ impl WideBvh<8> {
                 while m != 0 {
                     let i = m.trailing_zeros() as usize;
                     m &= m - 1;
-                    let h = self.traverse_from::<P, false, true, false, STACK>(
+                    let h = self.traverse_from::<P, false, true, LEAVES, STACK>(
                         cur,
                         prims,
                         &rays[i],
@@ -221,7 +225,7 @@ impl WideBvh<8> {
                 while m != 0 {
                     let i = m.trailing_zeros() as usize;
                     m &= m - 1;
-                    self.leaf::<P, false, true, false>(
+                    self.leaf::<P, false, true, LEAVES>(
                         cur,
                         &mut rt[i],
                         prims,

@@ -152,6 +152,54 @@ unsafe fn slabs8_avx(bounds: *const f32, r: &RayBoxes, t_cull: f32, dist: *mut f
     mask(hit)
 }
 
+/// What a tree's leaves hold, the traversal's `LEAVES` parameter, so that each kind of tree runs
+/// code with no test for the others: triangle blocks (and called-back primitives) only. A test for
+/// pairs at every leaf visit cost 2.7% more instructions on the bunny's camera rays (`KD_BVH=1
+/// KD_PROFILE=camera` callgrind of `examples/kd_tune`, 470.6 against 458.2 per ray).
+pub(super) const BLOCKS: u8 = 0;
+/// Compact leaves: primitive ids, their vertices fetched at each visit.
+pub(super) const COMPACT: u8 = 1;
+/// Triangle blocks and blocks of pairs ([`node::QUADS`]).
+pub(super) const PAIRS: u8 = 2;
+
+/// Which traversal a tree's rays take, decided once at the build ([`Path::of`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) enum Path {
+    /// No nodes: every ray misses.
+    #[default]
+    Empty,
+    /// A tree of one leaf, tested without a node visit.
+    RootLeaf(Child),
+    /// 8 wide on a CPU with AVX2, triangle blocks (and called-back primitives) only...
+    #[cfg(target_arch = "x86_64")]
+    Avx2Blocks,
+    /// ...or with blocks of pairs too.
+    #[cfg(target_arch = "x86_64")]
+    Avx2Pairs,
+    /// SSE (or scalar) node tests: 4 wide, or no AVX2.
+    Sized,
+}
+
+impl Path {
+    pub(super) fn of<const W: usize>(tree: &WideBvh<W>) -> Self {
+        if tree.nodes.is_empty() {
+            return Path::Empty;
+        }
+        if let Some(leaf) = tree.root_leaf {
+            return Path::RootLeaf(leaf);
+        }
+        #[cfg(target_arch = "x86_64")]
+        if W == 8 && crate::accel::has_avx2() {
+            return if tree.quads.is_empty() {
+                Path::Avx2Blocks
+            } else {
+                Path::Avx2Pairs
+            };
+        }
+        Path::Sized
+    }
+}
+
 /// Stack entries a traversal may need: each level pushes at most `W` children and pops one.
 pub(super) fn stack_need<const W: usize>(depth: usize) -> usize {
     depth * (W - 1) + 1
@@ -167,30 +215,39 @@ impl<const W: usize> WideBvh<W> {
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
         stats.rays += 1;
-        if self.nodes.is_empty() {
-            return None;
+        // One branch on the way decided at the build, rather than a test per condition (each
+        // cost instructions on every ray: the Whitted frame's rays are a few hundred each).
+        match self.path {
+            Path::Empty => None,
+            Path::RootLeaf(leaf) => {
+                self.traverse_root_leaf::<P, ANY>(leaf, prims, ray, t_max, stats)
+            }
+            // SAFETY (both): the builder chose these paths after detecting AVX2. One function per
+            // kind of leaves: with both kinds' traversals inlined into one, its entry saved more
+            // registers and camera rays through trees without pairs took 2-3% more instructions
+            // (bunny, callgrind).
+            #[cfg(target_arch = "x86_64")]
+            Path::Avx2Blocks => unsafe {
+                self.traverse_avx2::<P, ANY, BLOCKS>(prims, ray, t_max, stats)
+            },
+            #[cfg(target_arch = "x86_64")]
+            Path::Avx2Pairs => unsafe {
+                self.traverse_avx2::<P, ANY, PAIRS>(prims, ray, t_max, stats)
+            },
+            Path::Sized => self.traverse_sized::<P, ANY, false>(prims, ray, t_max, stats),
         }
-        if let Some(leaf) = self.root_leaf {
-            return self.traverse_root_leaf::<P, ANY>(leaf, prims, ray, t_max, stats);
-        }
-        #[cfg(target_arch = "x86_64")]
-        if W == 8 && crate::accel::has_avx2() {
-            // SAFETY: the CPU has AVX2.
-            return unsafe { self.traverse_avx2::<P, ANY>(prims, ray, t_max, stats) };
-        }
-        self.traverse_sized::<P, ANY, false>(prims, ray, t_max, stats)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn traverse_avx2<P: Primitives, const ANY: bool>(
+    unsafe fn traverse_avx2<P: Primitives, const ANY: bool, const LEAVES: u8>(
         &self,
         prims: &P,
         ray: &Ray,
         t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
-        self.traverse_sized::<P, ANY, true>(prims, ray, t_max, stats)
+        self.traverse_sized_as::<P, ANY, true, LEAVES>(prims, ray, t_max, stats)
     }
 
     /// A tree that is a single leaf: its primitives tested directly, without the set-up of a
@@ -232,11 +289,11 @@ impl<const W: usize> WideBvh<W> {
     ) -> Option<Hit> {
         let mut best = None;
         if self.compact() {
-            self.leaf::<P, ANY, false, true>(
+            self.leaf::<P, ANY, false, COMPACT>(
                 leaf, &mut None, prims, ray, &mut t_max, &mut best, stats,
             );
         } else {
-            self.leaf::<P, ANY, false, false>(
+            self.leaf::<P, ANY, false, PAIRS>(
                 leaf, &mut None, prims, ray, &mut t_max, &mut best, stats,
             );
         }
@@ -248,7 +305,7 @@ impl<const W: usize> WideBvh<W> {
     /// leaf that needs it.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(super) fn leaf<P: Primitives, const ANY: bool, const AVX: bool, const COMPACT: bool>(
+    pub(super) fn leaf<P: Primitives, const ANY: bool, const AVX: bool, const LEAVES: u8>(
         &self,
         leaf: Child,
         rt: &mut Option<RayTri>,
@@ -259,7 +316,7 @@ impl<const W: usize> WideBvh<W> {
         stats: &mut TraversalStats,
     ) {
         let (first, count) = node::leaf_range(leaf);
-        if !COMPACT && leaf & node::QUADS != 0 {
+        if LEAVES == PAIRS && leaf & node::QUADS != 0 {
             // SAFETY: the builder wrote this leaf's blocks, `first..first + ceil(count / 4)`.
             let quads = unsafe { self.quads.get_unchecked(first..first + count.div_ceil(4)) };
             let rt = rt.get_or_insert_with(|| RayTri::new(ray));
@@ -267,7 +324,7 @@ impl<const W: usize> WideBvh<W> {
             return;
         }
         stats.prim_tests += count as u64;
-        if COMPACT {
+        if LEAVES == COMPACT {
             self.compact_leaf::<P, ANY, AVX>(leaf, rt, prims, ray, t_max, best, stats);
             return;
         }
@@ -377,7 +434,8 @@ impl<const W: usize> WideBvh<W> {
 
     /// Picks a stack just large enough for the tree's depth. Compact leaves take the other
     /// function too, so that the usual one has no trace of them (with a test per leaf visit, its
-    /// instructions rose 5%: callgrind, bunny).
+    /// instructions rose 5%: callgrind, bunny); a tree without pairs of triangles takes an
+    /// instance that does not test for them ([`LEAVES`](BLOCKS)).
     #[inline(always)]
     pub(super) fn traverse_sized<P: Primitives, const ANY: bool, const AVX: bool>(
         &self,
@@ -386,8 +444,25 @@ impl<const W: usize> WideBvh<W> {
         t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
+        if self.quads.is_empty() {
+            self.traverse_sized_as::<P, ANY, AVX, BLOCKS>(prims, ray, t_max, stats)
+        } else {
+            self.traverse_sized_as::<P, ANY, AVX, PAIRS>(prims, ray, t_max, stats)
+        }
+    }
+
+    /// [`Self::traverse_sized`] for a tree whose leaves are of kind `LEAVES` (or, for the deep
+    /// traversal, any kind).
+    #[inline(always)]
+    fn traverse_sized_as<P: Primitives, const ANY: bool, const AVX: bool, const LEAVES: u8>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
         if self.common {
-            self.traverse_with::<P, ANY, AVX, false, 128>(prims, ray, t_max, stats)
+            self.traverse_with::<P, ANY, AVX, LEAVES, 128>(prims, ray, t_max, stats)
         } else {
             self.traverse_deep::<P, ANY, AVX>(prims, ray, t_max, stats)
         }
@@ -407,9 +482,9 @@ impl<const W: usize> WideBvh<W> {
         // suffices.
         debug_assert!(stack_need::<W>(self.depth) <= 1024);
         if self.compact() {
-            return self.traverse_with::<P, ANY, AVX, true, 1024>(prims, ray, t_max, stats);
+            return self.traverse_with::<P, ANY, AVX, COMPACT, 1024>(prims, ray, t_max, stats);
         }
-        self.traverse_with::<P, ANY, AVX, false, 1024>(prims, ray, t_max, stats)
+        self.traverse_with::<P, ANY, AVX, PAIRS, 1024>(prims, ray, t_max, stats)
     }
 
     #[inline(always)]
@@ -417,7 +492,7 @@ impl<const W: usize> WideBvh<W> {
         P: Primitives,
         const ANY: bool,
         const AVX: bool,
-        const COMPACT: bool,
+        const LEAVES: u8,
         const N: usize,
     >(
         &self,
@@ -426,7 +501,7 @@ impl<const W: usize> WideBvh<W> {
         t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
-        self.traverse_from::<P, ANY, AVX, COMPACT, N>(0, prims, ray, t_max, stats)
+        self.traverse_from::<P, ANY, AVX, LEAVES, N>(0, prims, ray, t_max, stats)
     }
 
     /// The traversal of the subtree under interior node `start` (the root is node 0): packets
@@ -436,7 +511,7 @@ impl<const W: usize> WideBvh<W> {
         P: Primitives,
         const ANY: bool,
         const AVX: bool,
-        const COMPACT: bool,
+        const LEAVES: u8,
         const N: usize,
     >(
         &self,
@@ -540,7 +615,7 @@ impl<const W: usize> WideBvh<W> {
                     continue;
                 }
             } else {
-                self.leaf::<P, ANY, AVX, COMPACT>(
+                self.leaf::<P, ANY, AVX, LEAVES>(
                     cur, &mut rt, prims, ray, &mut t_max, &mut best, stats,
                 );
                 if ANY && best.is_some() {
