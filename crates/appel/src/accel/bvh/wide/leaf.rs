@@ -4,7 +4,7 @@
 use super::quad_block::QuadBlock;
 use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
 use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
-use crate::math::Ray;
+use crate::math::{Ray, Vec3};
 
 /// Tests a leaf's triangle blocks (and calls back its other primitives), narrowing `t_max` and
 /// setting `best` at each nearer hit; with `ANY`, returns at the first. `count` is the leaf's
@@ -48,28 +48,57 @@ pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
         }
         let pair = &blocks[at..at + step];
         at += step;
-        while m != 0 {
-            let bit = m.trailing_zeros() as usize;
-            m &= m - 1;
-            let (b, lane) = (&pair[bit / 4], bit % 4);
-            let id = b.id[lane];
-            if seen(id) {
-                continue;
-            }
-            let h = match b.triangle(lane) {
-                // SAFETY: the filter run into `vals` just kept lane `bit`.
-                Some(tri) => unsafe { finish(&vals, bit, tri, ray, *t_max) },
-                None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats),
-            };
-            if let Some(h) = h {
-                *best = Some(Hit::new(id as usize, h));
-                if ANY {
-                    return;
-                }
-                *t_max = h.t;
-            }
+        let lane = |bit: usize| {
+            let b = &pair[bit / 4];
+            (b.id[bit % 4], b.triangle(bit % 4))
+        };
+        // SAFETY: the filter run into `vals` just kept the lanes of `m`.
+        if unsafe { decide::<P, ANY>(m, &vals, lane, &mut seen, prims, ray, t_max, best, stats) } {
+            return;
         }
     }
+}
+
+/// Decides the lanes in mask `m`, lowest first: `lane(bit)` is a lane's primitive and its
+/// triangle (`None` for a primitive called back), `seen` skips primitives this ray has tested
+/// already. Narrows `t_max` and sets `best` at each nearer hit; returns whether an any-hit query
+/// (`ANY`) is answered.
+///
+/// # Safety
+/// The filter run last into `vals` kept every lane of `m`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+unsafe fn decide<P: Primitives, const ANY: bool>(
+    mut m: u32,
+    vals: &LaneValues,
+    lane: impl Fn(usize) -> (u32, Option<[Vec3; 3]>),
+    seen: &mut impl FnMut(u32) -> bool,
+    prims: &P,
+    ray: &Ray,
+    t_max: &mut f32,
+    best: &mut Option<Hit>,
+    stats: &mut TraversalStats,
+) -> bool {
+    while m != 0 {
+        let bit = m.trailing_zeros() as usize;
+        m &= m - 1;
+        let (id, tri) = lane(bit);
+        if seen(id) {
+            continue;
+        }
+        let h = match tri {
+            Some(tri) => finish(vals, bit, tri, ray, *t_max),
+            None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats),
+        };
+        if let Some(h) = h {
+            *best = Some(Hit::new(id as usize, h));
+            if ANY {
+                return true;
+            }
+            *t_max = h.t;
+        }
+    }
+    false
 }
 
 /// [`test_blocks`] for a leaf of [`QuadBlock`]s: `count` lanes in use (pairs, lone triangles or
@@ -104,23 +133,23 @@ pub(crate) fn test_quads<P: Primitives, const ANY: bool, const AVX: bool>(
         #[cfg(not(target_arch = "x86_64"))]
         let m = rt.candidates_quads(q, *t_max, &mut vals);
         // Unused lanes, and the second triangle of lanes that have none.
-        let mut m = m & (lanes | pairs << 4);
-        while m != 0 {
-            let bit = m.trailing_zeros() as usize;
-            m &= m - 1;
-            let id = q.prim(bit);
-            let h = match q.triangle(bit) {
-                // SAFETY: the filter run into `vals` just kept lane `bit`.
-                Some(tri) => unsafe { finish(&vals, bit, tri, ray, *t_max) },
-                None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats),
-            };
-            if let Some(h) = h {
-                *best = Some(Hit::new(id as usize, h));
-                if ANY {
-                    return;
-                }
-                *t_max = h.t;
-            }
+        let m = m & (lanes | pairs << 4);
+        let lane = |bit: usize| (q.prim(bit), q.triangle(bit));
+        // SAFETY: the filter run into `vals` just kept the lanes of `m`.
+        if unsafe {
+            decide::<P, ANY>(
+                m,
+                &vals,
+                lane,
+                &mut |_| false,
+                prims,
+                ray,
+                t_max,
+                best,
+                stats,
+            )
+        } {
+            return;
         }
     }
 }
