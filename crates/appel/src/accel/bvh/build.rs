@@ -150,11 +150,14 @@ impl BvhOptions {
     /// triangle blocks is. Measured on the 10M-triangle city (`appel bench city.ply --accel bvh
     /// --embree --threads 1`, ratios to Embree in the same run): 387 MB against 431 MB with the
     /// block halved too (costed as two triangle blocks), camera rays 0.87-0.88x Embree's against
-    /// 0.82x, incoherent 0.75-0.76x against 0.73x, shadow 0.84-0.86x against 0.81x.
+    /// 0.82x, incoherent 0.75-0.76x against 0.73x, shadow 0.84-0.86x against 0.81x. The tree's
+    /// SAH cost (`--stats`) then counts blocks of pairs, so it is not comparable with a build over
+    /// single triangles.
     pub(crate) fn for_pairs(&self) -> Self {
         Self {
             block: self.block_size(),
-            max_leaf: (self.max_leaf / 2).max(1),
+            // The builder clamps `max_leaf` to 255: halve what it would use.
+            max_leaf: (self.max_leaf.clamp(1, 255) / 2).max(1),
             leaf_size: (self.leaf_size / 2).max(1),
             ..*self
         }

@@ -34,7 +34,7 @@ pub struct WideBvh<const W: usize> {
     /// The leaves' triangles; empty for compact leaves.
     blocks: Vec<TriBlock>,
     /// The leaves' pairs of triangles (leaves tagged [`node::QUADS`]), when the tree was built
-    /// over pairs ([`Self::from_binary_paired`]).
+    /// over pairs ([`Self::from_collapsed_paired`]).
     quads: Vec<QuadBlock>,
     /// Compact leaves (`BvhOptions::compact`): each block's four primitive ids, padded as the
     /// blocks are, the vertices fetched through `Primitives` at every visit; empty otherwise.
@@ -613,6 +613,15 @@ mod tests {
 
     /// Every primitive in exactly one leaf, every child box inside its parent's.
     fn well_formed<const W: usize>(w: &WideBvh<W>, n: usize) {
+        well_formed_over(w, n, None::<&MeshPrimitives>)
+    }
+
+    /// [`well_formed`], and each leaf lane the triangle `prims` has under that id, bit for bit.
+    fn well_formed_over<const W: usize, P: Primitives>(
+        w: &WideBvh<W>,
+        n: usize,
+        prims: Option<&P>,
+    ) {
         let mut seen = vec![0u32; n];
         let mut stack = vec![(0usize, None::<([f32; 3], [f32; 3])>)];
         let mut visited = 0;
@@ -632,6 +641,10 @@ mod tests {
                 if node::is_leaf(c) {
                     for (id, tri) in leaf_triangles(w, c) {
                         seen[id as usize] += 1;
+                        // Each triangle under its own id, its vertices in their own order.
+                        if let Some(p) = prims {
+                            assert_eq!(tri, p.watertight_triangle(id as usize), "{id}");
+                        }
                         // The leaf's box holds its triangles.
                         for p in tri.into_iter().flatten() {
                             assert!((0..3).all(|a| lo[a] <= p[a] && p[a] <= hi[a]), "{id}");
@@ -722,11 +735,29 @@ mod tests {
             assert_eq!(bvh.stats().primitives, n);
             let (quads, tris) = match &bvh.wide {
                 Wide::W4(w) => {
-                    well_formed(w, n);
+                    well_formed_over(w, n, Some(&p));
                     (w.quads.len(), w.blocks.len())
                 }
                 Wide::W8(w) => {
-                    well_formed(w, n);
+                    well_formed_over(w, n, Some(&p));
+                    // Prefetching (large trees only) changes no answer.
+                    let pf = WideBvh {
+                        prefetch: true,
+                        ..w.clone()
+                    };
+                    agrees_with_brute(
+                        &p,
+                        &rays(200, 46),
+                        |r, t, s| pf.traverse::<_, false>(&p, r, t, s),
+                        |r, t, s| pf.traverse::<_, true>(&p, r, t, s).is_some(),
+                    );
+                    // The deep traversal, which takes any kind of leaves.
+                    agrees_with_brute(
+                        &p,
+                        &rays(200, 47),
+                        |r, t, s| w.traverse_deep::<_, false, false>(&p, r, t, s),
+                        |r, t, s| w.traverse_deep::<_, true, false>(&p, r, t, s).is_some(),
+                    );
                     agrees_with_brute(
                         &p,
                         &rays(300, 43),
@@ -762,7 +793,7 @@ mod tests {
             panic!("not 8 wide")
         };
         assert!(!w.quads.is_empty());
-        well_formed(w, n);
+        well_formed_over(w, n, Some(&mixed));
         let hits = agrees_with_brute(
             &mixed,
             &rays(600, 44),
@@ -770,6 +801,37 @@ mod tests {
             |r, t, s| bvh.occluded(&mixed, r, t, s),
         );
         assert!(hits > 300, "{hits}");
+        agrees_with_brute(
+            &mixed,
+            &rays(300, 48),
+            |r, t, s| w.traverse_sized::<_, false, false>(&mixed, r, t, s),
+            |r, t, s| {
+                w.traverse_sized::<_, true, false>(&mixed, r, t, s)
+                    .is_some()
+            },
+        );
+        // A tree that is one leaf of pairs.
+        let small = quad_soup(3, 49);
+        let sp = prims(&small);
+        let one = Bvh::build(&sp);
+        let Wide::W8(w) = &one.wide else {
+            panic!("not 8 wide")
+        };
+        assert!(w.root_leaf.is_some_and(|c| c & node::QUADS != 0));
+        well_formed_over(w, small.triangle_count(), Some(&sp));
+        // Random rays, and rays from far away aimed at each triangle's centroid.
+        let aimed = (0..small.triangle_count()).flat_map(|i| {
+            let c = small.vertices(i).iter().copied().sum::<Vec3>() / 3.0;
+            [Vec3::new(9.0, 7.0, -8.0), Vec3::new(-6.0, -9.0, 5.0)].map(|o| Ray::new(o, c - o))
+        });
+        let all: Vec<Ray> = rays(300, 50).into_iter().chain(aimed).collect();
+        let hits = agrees_with_brute(
+            &sp,
+            &all,
+            |r, t, s| one.intersect(&sp, r, t, s),
+            |r, t, s| one.occluded(&sp, r, t, s),
+        );
+        assert!(hits > 5, "{hits}");
     }
 
     /// Rays in packets through a tree over pairs answer as single rays do.
