@@ -2,9 +2,9 @@
 //! bonus and termination, Pharr et al. 2016, section 4.4.2; split candidates from clipped bounds as
 //! in Wald & Havran 2006). See `docs/accel.md`.
 
+use super::leaf::{KdBlock, LANES};
 use super::node::KdNode;
 use super::{KdOptions, BINS, EMPTY_MIN, EXACT_MAX};
-use crate::accel::bvh::TriBlock;
 use crate::accel::Primitives;
 use crate::math::{Aabb, Vec3};
 
@@ -16,8 +16,8 @@ pub(super) struct Builder<'a, P> {
     /// traversal's `t_split` can never hide a primitive from the cell where the ray meets it.
     pub(super) margin: f32,
     pub(super) nodes: Vec<KdNode>,
-    /// Leaf triangles, gathered four by four.
-    pub(super) blocks: Vec<TriBlock>,
+    /// Leaf triangles, gathered eight by eight.
+    pub(super) blocks: Vec<KdBlock>,
     /// Leaf references (primitives counted once per leaf holding them).
     pub(super) refs: usize,
     /// Nodes of at least this many primitives build their children in parallel.
@@ -31,8 +31,8 @@ pub(super) struct Builder<'a, P> {
 impl<P: Primitives> Builder<'_, P> {
     fn make_leaf(&mut self, node: Aabb, ids: &[u32], depth: usize) {
         let first = self.blocks.len() as u32;
-        for chunk in ids.chunks(4) {
-            self.blocks.push(TriBlock::gather(self.prims, chunk));
+        for chunk in ids.chunks(LANES) {
+            self.blocks.push(KdBlock::gather(self.prims, chunk));
         }
         self.refs += ids.len();
         self.nodes.push(KdNode::leaf(first, ids.len() as u32));

@@ -7,14 +7,15 @@
 //! the clipped bounds' extent. A primitive whose bounds straddle the chosen plane goes only to the
 //! children it really overlaps (`Primitives::clip_overlaps`), so a large triangle whose bounds
 //! cover a dense cluster is not copied into the cluster's leaves. Leaves store their triangles
-//! gathered into the BVH's SIMD blocks of four (`TriBlock`); traversal filters a block at once and
-//! passes the survivors through a small per-ray mailbox, so a primitive copied into several leaves
-//! along a ray is tested once. Build memory is the primitive bounds plus one index list per node on
+//! gathered into SIMD blocks of eight (`leaf.rs`); traversal filters a block at once and passes
+//! the survivors through a small per-ray mailbox, so a primitive copied into several leaves along
+//! a ray is tested once. Build memory is the primitive bounds plus one index list per node on
 //! the current recursion path. The builder makes 8-byte binary nodes (pbrt's `KdAccelNode`,
 //! `node.rs`), which are then collapsed three levels at a time into 128-byte nodes of seven planes
 //! and eight cells (`wide.rs`) that traversal tests in one 8-lane step.
 
 mod build;
+mod leaf;
 mod node;
 #[cfg(test)]
 mod tests;
@@ -24,10 +25,10 @@ mod wide;
 pub use node::KdNode;
 pub use wide::KdNode8;
 
-use super::bvh::TriBlock;
 use super::{AccelStats, Hit, Primitives, TraversalStats};
 use crate::math::{Aabb, Ray};
 use build::Builder;
+use leaf::KdBlock;
 use rayon::prelude::*;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,8 +91,8 @@ pub struct KdTree {
     binary_nodes: usize,
     /// Whether traversal prefetches the cells it pushes ([`crate::accel::PREFETCH_BYTES`]).
     prefetch: bool,
-    /// Leaf triangles in SIMD blocks of four; a leaf's blocks are consecutive.
-    blocks: Vec<TriBlock>,
+    /// Leaf triangles in SIMD blocks of eight; a leaf's blocks are consecutive.
+    blocks: Vec<KdBlock>,
     /// Leaf references: each primitive counted once per leaf that holds it.
     refs: usize,
     stats: AccelStats,
@@ -152,7 +153,7 @@ impl KdTree {
             name: "kdtree",
             primitives: n,
             bytes: nodes.len() * std::mem::size_of::<KdNode8>()
-                + b.blocks.len() * std::mem::size_of::<TriBlock>(),
+                + b.blocks.len() * std::mem::size_of::<KdBlock>(),
             nodes: b.nodes.len() - b.leaves,
             leaves: b.leaves,
             depth: b.depth,
