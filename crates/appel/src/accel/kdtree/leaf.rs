@@ -272,14 +272,11 @@ pub fn test_leaf<P: Primitives, const ANY: bool>(
     mut filter: impl FnMut(&KdBlock, f32) -> u32,
     mut seen: impl FnMut(u32) -> bool,
 ) {
-    for (at, b) in blocks.iter().enumerate() {
-        let mut m = filter(b, *t_max);
-        // The last block's unused lanes repeat lane 0: skip them (a called-back primitive there
-        // would be tested twice).
-        let lanes = count - LANES * at;
-        if lanes < LANES {
-            m &= (1 << lanes) - 1;
-        }
+    let Some((last, full)) = blocks.split_last() else {
+        return;
+    };
+    // Returns whether an any-hit query is done.
+    let mut decide = |b: &KdBlock, mut m: u32, t_max: &mut f32, best: &mut Option<Hit>| {
         while m != 0 {
             let lane = m.trailing_zeros() as usize;
             m &= m - 1;
@@ -294,12 +291,24 @@ pub fn test_leaf<P: Primitives, const ANY: bool>(
             if let Some(h) = h {
                 *best = Some(Hit::new(id as usize, h));
                 if ANY {
-                    return;
+                    return true;
                 }
                 *t_max = h.t;
             }
         }
+        false
+    };
+    for b in full {
+        let m = filter(b, *t_max);
+        if m != 0 && decide(b, m, t_max, best) {
+            return;
+        }
     }
+    // The last block's unused lanes repeat lane 0: skip them (a called-back primitive there
+    // would be tested twice).
+    let lanes = count - LANES * full.len();
+    let m = filter(last, *t_max) & (u32::MAX >> (32 - lanes));
+    decide(last, m, t_max, best);
 }
 
 #[cfg(test)]

@@ -33,7 +33,15 @@ use rayon::prelude::*;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KdOptions {
+    /// A node step: the cost of a split on the first of a three-level node's levels.
     pub traversal_cost: f32,
+    /// A split on the second or third level of a three-level node: the node's step computes all
+    /// three levels at once, so such a split adds cells to cross, not a step.
+    pub inner_cost: f32,
+    /// Visiting a non-empty leaf, beyond its triangles: the pop, the leaf-or-node branch and the
+    /// loop over its blocks.
+    pub visit_cost: f32,
+    /// Per triangle of a leaf.
     pub intersect_cost: f32,
     /// Fraction of the cost saved when one side of a split is empty (pbrt's 0.5).
     pub empty_bonus: f32,
@@ -48,19 +56,22 @@ pub struct KdOptions {
 
 impl Default for KdOptions {
     fn default() -> Self {
-        // Measured, not pbrt-v3's (80:1, leaves of 2, 3 bad splits): leaves test their triangles
-        // four at a time, so one triangle costs a tenth of a traversal step, whose latency
-        // (a dependent load, the plane distance and an unpredictable branch) bounds the
-        // traversal. With these the bunny's tree has 1.8 leaf references per triangle and leaves
-        // of about 28, ended by cost (`max_prims` is one block); 80:1 gave 12 references per
-        // triangle and every path at the depth limit. With three-level nodes, a bonus of 0.2
-        // rather than pbrt's 0.5 was 3-4% faster on the bunny, the ogre and nefertiti (smaller
-        // costs gave deeper trees, more memory and slower traversal despite fewer instructions).
-        // See docs/performance.md.
+        // Measured, not pbrt-v3's (80:1, leaves of 2, 3 bad splits), in units of a node step:
+        // leaves test their triangles eight at a time, so one triangle costs a tenth of a step,
+        // whose latency (a dependent load and the eight cells' intervals) bounds the traversal;
+        // 80:1 gave 12 leaf references per triangle and every path at the depth limit. A
+        // non-empty leaf costs two steps to enter (timed: a leaf whose first block alone is
+        // tested costs about 1.5 steps, docs/performance.md), which replaces the empty-space
+        // bonus (0.2 before; empty children cost nothing now); a split on a node's lower two
+        // levels costs 0.3, since the node's step computes them anyway. Together on the bunny:
+        // incoherent rays 1.61x -> 1.54x and shadow rays 1.67x -> 1.55x the BVH's time, with
+        // fewer lanes and nodes per ray.
         Self {
             traversal_cost: 1.0,
+            inner_cost: 0.3,
+            visit_cost: 2.0,
             intersect_cost: 0.1,
-            empty_bonus: 0.2,
+            empty_bonus: 0.0,
             max_prims: 4,
             max_depth: None,
             max_bad: 1,
