@@ -113,7 +113,9 @@ impl KdTree {
                 // SAFETY: node cells hold indices of nodes the collapse wrote (`wide.rs`).
                 let n = unsafe { self.nodes.get_unchecked(cur as usize) };
                 // Cells starting beyond the closest hit cannot hold a nearer one.
-                let t_end = t1.min(t_max);
+                // (Neither is NaN: a plain comparison, not `f32::min`'s NaN handling, which put
+                // a compare and a blend on the step's path.)
+                let t_end = if t_max < t1 { t_max } else { t1 };
                 #[cfg(target_arch = "x86_64")]
                 let mask = if AVX {
                     // SAFETY: `AVX` is true only inside `traverse_avx2`.
