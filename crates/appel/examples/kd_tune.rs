@@ -59,6 +59,7 @@ fn main() {
         };
         let mut t = TraversalStats::default();
         let mut hits = 0;
+        let mut traced = 0;
         // KD_PROFILE=camera|incoherent|shadow traces only that kind (callgrind per kind).
         let kind = std::env::var("KD_PROFILE").unwrap();
         let bvh = Accel::build(AccelKind::Bvh, g);
@@ -75,15 +76,17 @@ fn main() {
             } else {
                 &rays.incoherent
             };
+            traced = rs.len();
             for r in rs {
                 hits += accel.intersect(g, r, f32::INFINITY, &mut t).is_some() as usize;
             }
         } else {
+            traced = rays.shadow.len();
             for s in &rays.shadow {
                 hits += accel.occluded(g, &s.ray, s.t_max, &mut t) as usize;
             }
         }
-        println!("{hits} hits");
+        println!("{hits} hits of {traced} rays");
         return;
     }
     let mut sets: Vec<Option<KdOptions>> = vec![None];

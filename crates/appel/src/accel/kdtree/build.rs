@@ -2,9 +2,10 @@
 //! bonus and termination, Pharr et al. 2016, section 4.4.2; split candidates from clipped bounds as
 //! in Wald & Havran 2006). See `docs/accel.md`.
 
+use super::leaf::{KdBlock, LANES};
 use super::node::KdNode;
+use super::wide::LEVELS;
 use super::{KdOptions, BINS, EMPTY_MIN, EXACT_MAX};
-use crate::accel::bvh::TriBlock;
 use crate::accel::Primitives;
 use crate::math::{Aabb, Vec3};
 
@@ -16,8 +17,8 @@ pub(super) struct Builder<'a, P> {
     /// traversal's `t_split` can never hide a primitive from the cell where the ray meets it.
     pub(super) margin: f32,
     pub(super) nodes: Vec<KdNode>,
-    /// Leaf triangles, gathered four by four.
-    pub(super) blocks: Vec<TriBlock>,
+    /// Leaf triangles, gathered eight by eight.
+    pub(super) blocks: Vec<KdBlock>,
     /// Leaf references (primitives counted once per leaf holding them).
     pub(super) refs: usize,
     /// Nodes of at least this many primitives build their children in parallel.
@@ -31,14 +32,28 @@ pub(super) struct Builder<'a, P> {
 impl<P: Primitives> Builder<'_, P> {
     fn make_leaf(&mut self, node: Aabb, ids: &[u32], depth: usize) {
         let first = self.blocks.len() as u32;
-        for chunk in ids.chunks(4) {
-            self.blocks.push(TriBlock::gather(self.prims, chunk));
+        for chunk in ids.chunks(LANES) {
+            self.blocks.push(KdBlock::gather(self.prims, chunk));
         }
         self.refs += ids.len();
         self.nodes.push(KdNode::leaf(first, ids.len() as u32));
         self.leaves += 1;
         self.depth = self.depth.max(depth);
-        self.sah += self.rel_area(node) * self.opts.intersect_cost as f64 * ids.len() as f64;
+        if !ids.is_empty() {
+            let o = self.opts;
+            let cost = o.visit_cost + o.intersect_cost * ids.len() as f32;
+            self.sah += self.rel_area(node) * cost as f64;
+        }
+    }
+
+    /// The traversal cost of a split at binary depth `depth`: a node step on the first level of a
+    /// three-level node, `inner_cost` on the two levels it holds below that.
+    fn step_cost(&self, depth: usize) -> f32 {
+        if depth.is_multiple_of(LEVELS) {
+            self.opts.traversal_cost
+        } else {
+            self.opts.inner_cost
+        }
     }
 
     fn rel_area(&self, b: Aabb) -> f64 {
@@ -64,10 +79,15 @@ impl<P: Primitives> Builder<'_, P> {
         if n <= o.max_prims || depth_left == 0 {
             return self.make_leaf(node, &ids, depth);
         }
-        let Some((cost, axis, split)) = self.best_split(node, &ids) else {
+        let clipped = self.clipped(node, &ids);
+        let Some((below_above, axis, split)) = self.best_split(node, &clipped) else {
             return self.make_leaf(node, &ids, depth);
         };
-        let leaf_cost = o.intersect_cost * n as f32;
+        // The first of a three-level node's levels costs the node's step; a split on the other
+        // two adds no step, only cells (`wide.rs`).
+        let step = self.step_cost(depth);
+        let cost = step + below_above;
+        let leaf_cost = o.visit_cost + o.intersect_cost * n as f32;
         let bad = bad + (cost > leaf_cost) as u32;
         // pbrt: give up on splits far worse than a leaf for small nodes, or after three bad ones.
         if (cost > 4.0 * leaf_cost && n < 16) || bad >= o.max_bad {
@@ -76,10 +96,11 @@ impl<P: Primitives> Builder<'_, P> {
         let (mut bn, mut an) = (node, node);
         bn.max[axis] = split;
         an.min[axis] = split;
-        let (below, above) = self.partition(ids, axis, split, bn, an);
+        let (below, above) = self.partition(ids, &clipped, axis, split, bn, an);
+        drop(clipped);
         let me = self.nodes.len();
         self.nodes.push(KdNode::interior(axis, split, 0));
-        self.sah += self.rel_area(node) * o.traversal_cost as f64;
+        self.sah += self.rel_area(node) * step as f64;
         if n >= self.par_min {
             // Large nodes build their children on two threads into separate arrays, appended in
             // the sequential order: the tree is the same as a sequential build's (tested).
@@ -132,15 +153,18 @@ impl<P: Primitives> Builder<'_, P> {
         self.nodes.len() as u32
     }
 
-    /// Splits `ids` between the children `bn` (below `split`) and `an`. A primitive whose bounds
-    /// straddle the plane goes only to the children it really overlaps ([`Primitives::clip_overlaps`],
-    /// the triangle/box test for triangles): without this a large triangle whose bounds cover a
-    /// dense cluster it does not touch (the stadium's field under the teapot) is copied into every
-    /// leaf of the cluster. The test is against each child grown by the margin, so that a primitive
-    /// within rounding distance of a child still goes to it.
+    /// Splits `ids` between the children `bn` (below `split`) and `an` by their bounds clipped to
+    /// the node (`clipped`, from [`Self::clipped`]), which the SAH counted: a primitive within the
+    /// margin of the plane goes to both sides. A triangle's clipped bounds are those of the
+    /// triangle's part inside the node, a convex polygon, so bounds that straddle the plane mean
+    /// the triangle overlaps both children. Other primitives' bounds are only their boxes clipped
+    /// to the node: one straddling the plane goes only to the children it really overlaps
+    /// ([`Primitives::clip_overlaps`], against each child grown by the margin and a little more
+    /// for that test's own rounding).
     fn partition(
         &self,
         ids: Vec<u32>,
+        clipped: &[Aabb],
         axis: usize,
         split: f32,
         bn: Aabb,
@@ -154,10 +178,11 @@ impl<P: Primitives> Builder<'_, P> {
         let (gb, ga) = (grow(bn), grow(an));
         let mut below = Vec::with_capacity(ids.len());
         let mut above = Vec::with_capacity(ids.len() / 2);
-        for &i in &ids {
-            let b = self.bounds[i as usize];
+        for (&i, b) in ids.iter().zip(clipped) {
             let (to_b, to_a) = (b.min[axis] <= hi, b.max[axis] >= lo);
-            let (to_b, to_a) = if to_b && to_a && b.min[axis] < lo && b.max[axis] > hi {
+            let straddles = to_b && to_a && b.min[axis] < lo && b.max[axis] > hi;
+            let (to_b, to_a) = if straddles && self.prims.watertight_triangle(i as usize).is_none()
+            {
                 let (cb, ca) = (
                     self.prims.clip_overlaps(i as usize, &gb),
                     self.prims.clip_overlaps(i as usize, &ga),
@@ -181,9 +206,38 @@ impl<P: Primitives> Builder<'_, P> {
         (below, above)
     }
 
-    /// SAH cost of a plane with `nb` primitives below and `na` above; `pb`, `pa` the children's
-    /// areas relative to the node's, `fb` the below side's fraction of the node's extent on the
-    /// split axis. pbrt's empty-space bonus when one side is empty - but only for an empty slab
+    /// The bounds of each primitive's part inside `node` (grown by the margin, so that a
+    /// primitive the partition sent here for being within the margin keeps bounds): "perfect
+    /// splits" (Havran 2000; Wald & Havran 2006, section 4.3) for triangles, clipped by
+    /// Sutherland & Hodgman (1974) where their bounds reach outside the node; other primitives'
+    /// boxes clipped to the node.
+    fn clipped(&self, node: Aabb, ids: &[u32]) -> Vec<Aabb> {
+        let m = Vec3::splat(self.margin);
+        let grown = Aabb::new(node.min - m, node.max + m);
+        ids.iter()
+            .map(|&i| {
+                let b = self.bounds[i as usize];
+                let boxed = Aabb::new(b.min.max(grown.min), b.max.min(grown.max));
+                if b.min.cmpge(grown.min).all() && b.max.cmple(grown.max).all() {
+                    return b;
+                }
+                match self.prims.watertight_triangle(i as usize) {
+                    Some(t) => match clip_triangle(t, grown) {
+                        Some(c) => Aabb::new(c.min.max(boxed.min), c.max.min(boxed.max)),
+                        // Not within the margin of the node: an empty box, on no side.
+                        None => Aabb::EMPTY,
+                    },
+                    None => boxed,
+                }
+            })
+            .collect()
+    }
+
+    /// SAH cost of the children of a plane with `nb` primitives below and `na` above (the
+    /// traversal step is added by the caller); `pb`, `pa` the children's areas relative to the
+    /// node's, `fb` the below side's fraction of the node's extent on the split axis. A non-empty
+    /// child costs its visit (`visit_cost`) and its triangles; an empty one nothing, so cutting
+    /// empty space away pays by itself. pbrt's empty-space bonus when one side is empty - but only for an empty slab
     /// of at least `EMPTY_MIN` of the node: a thin sliver costs nearly the node's area either way,
     /// and with the bonus such cuts (which appear beside every subset of primitives that does not
     /// reach the node's sides) won over real splits at every level, spending the depth budget
@@ -196,7 +250,14 @@ impl<P: Primitives> Builder<'_, P> {
         } else {
             0.0
         };
-        o.traversal_cost + o.intersect_cost * (1.0 - bonus) * (pb * nb as f32 + pa * na as f32)
+        let child = |p: f32, n: usize| {
+            if n == 0 {
+                0.0
+            } else {
+                p * (o.visit_cost + o.intersect_cost * (1.0 - bonus) * n as f32)
+            }
+        };
+        child(pb, nb) + child(pa, na)
     }
 
     /// Relative child areas for a plane at `x` on `axis`.
@@ -237,18 +298,14 @@ impl<P: Primitives> Builder<'_, P> {
     /// inside the node. Candidates come from the primitives' bounds clipped to the node (Wald &
     /// Havran 2006, section 4.3; we clip the bounds, not the triangle, since the builder sees
     /// only bounds): small nodes sweep every clipped bound exactly, large ones bin them.
-    fn best_split(&self, node: Aabb, ids: &[u32]) -> Option<(f32, usize, f32)> {
+    fn best_split(&self, node: Aabb, clipped: &[Aabb]) -> Option<(f32, usize, f32)> {
         let area = node.surface_area();
         if area.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
-        let clipped: Vec<Aabb> = ids
-            .iter()
-            .map(|&i| {
-                let b = self.bounds[i as usize];
-                Aabb::new(b.min.max(node.min), b.max.min(node.max))
-            })
-            .collect();
+        // Dropped primitives (empty boxes) are in no child and no event.
+        let clipped: Vec<Aabb> = clipped.iter().copied().filter(|b| !b.is_empty()).collect();
+        let clipped = &clipped[..];
         let mut best: Option<(f32, usize, f32)> = None;
         let mut consider = |cost: f32, a: usize, x: f32| {
             if x > node.min[a] && x < node.max[a] && best.is_none_or(|(c, _, _)| cost < c) {
@@ -259,10 +316,10 @@ impl<P: Primitives> Builder<'_, P> {
             if node.extent()[a] <= 0.0 {
                 continue;
             }
-            if ids.len() <= EXACT_MAX {
-                self.sweep(node, area, a, &clipped, &mut consider);
+            if clipped.len() <= EXACT_MAX {
+                self.sweep(node, area, a, clipped, &mut consider);
             } else {
-                self.binned(node, area, a, &clipped, &mut consider);
+                self.binned(node, area, a, clipped, &mut consider);
             }
         }
         best
@@ -380,4 +437,79 @@ impl<P: Primitives> Builder<'_, P> {
             self.offer(node, area, a, x, shift, (nb, na), consider);
         }
     }
+}
+
+/// The bounds of the part of triangle `t` inside box `b` (Sutherland & Hodgman 1974: the polygon
+/// clipped by each of the box's six planes in turn), or `None` when they do not meet. Computed in
+/// f64 and rounded outward to f32, so the bounds contain the exact part (the f64 rounding, about
+/// 1e-16 of the coordinates, is far below the build's margin).
+fn clip_triangle(t: [Vec3; 3], b: Aabb) -> Option<Aabb> {
+    // Each plane adds at most one vertex: 3 + 6.
+    let mut poly = [[0.0f64; 3]; 9];
+    let mut next = [[0.0f64; 3]; 9];
+    for (k, p) in t.iter().enumerate() {
+        poly[k] = [p.x as f64, p.y as f64, p.z as f64];
+    }
+    let mut n = 3;
+    for a in 0..3 {
+        for (bound, keep_above) in [(b.min[a] as f64, true), (b.max[a] as f64, false)] {
+            let inside = |p: &[f64; 3]| {
+                if keep_above {
+                    p[a] >= bound
+                } else {
+                    p[a] <= bound
+                }
+            };
+            let mut m = 0;
+            for k in 0..n {
+                let (p, q) = (poly[k], poly[(k + 1) % n]);
+                if inside(&p) {
+                    next[m] = p;
+                    m += 1;
+                }
+                if inside(&p) != inside(&q) {
+                    let s = (bound - p[a]) / (q[a] - p[a]);
+                    let mut x = [0.0; 3];
+                    for c in 0..3 {
+                        x[c] = p[c] + (q[c] - p[c]) * s;
+                    }
+                    x[a] = bound;
+                    next[m] = x;
+                    m += 1;
+                }
+            }
+            if m == 0 {
+                return None;
+            }
+            std::mem::swap(&mut poly, &mut next);
+            n = m;
+        }
+    }
+    let down = |x: f64| {
+        let f = x as f32;
+        if f as f64 > x {
+            f.next_down()
+        } else {
+            f
+        }
+    };
+    let up = |x: f64| {
+        let f = x as f32;
+        if (f as f64) < x {
+            f.next_up()
+        } else {
+            f
+        }
+    };
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in &poly[..n] {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    Some(Aabb::new(
+        Vec3::new(down(lo[0]), down(lo[1]), down(lo[2])),
+        Vec3::new(up(hi[0]), up(hi[1]), up(hi[2])),
+    ))
 }

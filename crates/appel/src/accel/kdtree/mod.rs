@@ -7,14 +7,15 @@
 //! the clipped bounds' extent. A primitive whose bounds straddle the chosen plane goes only to the
 //! children it really overlaps (`Primitives::clip_overlaps`), so a large triangle whose bounds
 //! cover a dense cluster is not copied into the cluster's leaves. Leaves store their triangles
-//! gathered into the BVH's SIMD blocks of four (`TriBlock`); traversal filters a block at once and
-//! passes the survivors through a small per-ray mailbox, so a primitive copied into several leaves
-//! along a ray is tested once. Build memory is the primitive bounds plus one index list per node on
+//! gathered into SIMD blocks of eight (`leaf.rs`); traversal filters a block at once and passes
+//! the survivors through a small per-ray mailbox, so a primitive copied into several leaves along
+//! a ray is tested once. Build memory is the primitive bounds plus one index list per node on
 //! the current recursion path. The builder makes 8-byte binary nodes (pbrt's `KdAccelNode`,
 //! `node.rs`), which are then collapsed three levels at a time into 128-byte nodes of seven planes
 //! and eight cells (`wide.rs`) that traversal tests in one 8-lane step.
 
 mod build;
+mod leaf;
 mod node;
 #[cfg(test)]
 mod tests;
@@ -24,15 +25,23 @@ mod wide;
 pub use node::KdNode;
 pub use wide::KdNode8;
 
-use super::bvh::TriBlock;
 use super::{AccelStats, Hit, Primitives, TraversalStats};
 use crate::math::{Aabb, Ray};
 use build::Builder;
+use leaf::KdBlock;
 use rayon::prelude::*;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KdOptions {
+    /// A node step: the cost of a split on the first of a three-level node's levels.
     pub traversal_cost: f32,
+    /// A split on the second or third level of a three-level node: the node's step computes all
+    /// three levels at once, so such a split adds cells to cross, not a step.
+    pub inner_cost: f32,
+    /// Visiting a non-empty leaf, beyond its triangles: the pop, the leaf-or-node branch and the
+    /// loop over its blocks.
+    pub visit_cost: f32,
+    /// Per triangle of a leaf.
     pub intersect_cost: f32,
     /// Fraction of the cost saved when one side of a split is empty (pbrt's 0.5).
     pub empty_bonus: f32,
@@ -47,19 +56,22 @@ pub struct KdOptions {
 
 impl Default for KdOptions {
     fn default() -> Self {
-        // Measured, not pbrt-v3's (80:1, leaves of 2, 3 bad splits): leaves test their triangles
-        // four at a time, so one triangle costs a tenth of a traversal step, whose latency
-        // (a dependent load, the plane distance and an unpredictable branch) bounds the
-        // traversal. With these the bunny's tree has 1.8 leaf references per triangle and leaves
-        // of about 28, ended by cost (`max_prims` is one block); 80:1 gave 12 references per
-        // triangle and every path at the depth limit. With three-level nodes, a bonus of 0.2
-        // rather than pbrt's 0.5 was 3-4% faster on the bunny, the ogre and nefertiti (smaller
-        // costs gave deeper trees, more memory and slower traversal despite fewer instructions).
-        // See docs/performance.md.
+        // Measured, not pbrt-v3's (80:1, leaves of 2, 3 bad splits), in units of a node step:
+        // leaves test their triangles eight at a time, so one triangle costs a tenth of a step,
+        // whose latency (a dependent load and the eight cells' intervals) bounds the traversal;
+        // 80:1 gave 12 leaf references per triangle and every path at the depth limit. A
+        // non-empty leaf costs two steps to enter (timed: a leaf whose first block alone is
+        // tested costs about 1.5 steps, docs/performance.md), which replaces the empty-space
+        // bonus (0.2 before; empty children cost nothing now); a split on a node's lower two
+        // levels costs 0.3, since the node's step computes them anyway. Together on the bunny:
+        // incoherent rays 1.61x -> 1.54x and shadow rays 1.67x -> 1.55x the BVH's time, with
+        // fewer lanes and nodes per ray.
         Self {
             traversal_cost: 1.0,
+            inner_cost: 0.3,
+            visit_cost: 2.0,
             intersect_cost: 0.1,
-            empty_bonus: 0.2,
+            empty_bonus: 0.0,
             max_prims: 4,
             max_depth: None,
             max_bad: 1,
@@ -90,8 +102,8 @@ pub struct KdTree {
     binary_nodes: usize,
     /// Whether traversal prefetches the cells it pushes ([`crate::accel::PREFETCH_BYTES`]).
     prefetch: bool,
-    /// Leaf triangles in SIMD blocks of four; a leaf's blocks are consecutive.
-    blocks: Vec<TriBlock>,
+    /// Leaf triangles in SIMD blocks of eight; a leaf's blocks are consecutive.
+    blocks: Vec<KdBlock>,
     /// Leaf references: each primitive counted once per leaf that holds it.
     refs: usize,
     stats: AccelStats,
@@ -152,7 +164,7 @@ impl KdTree {
             name: "kdtree",
             primitives: n,
             bytes: nodes.len() * std::mem::size_of::<KdNode8>()
-                + b.blocks.len() * std::mem::size_of::<TriBlock>(),
+                + b.blocks.len() * std::mem::size_of::<KdBlock>(),
             nodes: b.nodes.len() - b.leaves,
             leaves: b.leaves,
             depth: b.depth,

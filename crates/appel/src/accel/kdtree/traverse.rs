@@ -2,18 +2,19 @@
 //! the three-level nodes (`wide.rs`): a node gives the ray's interval in each of its eight cells at
 //! once; the cells it crosses wait on a small explicit stack, nearest on top, with their intervals;
 //! no recursion; and the traversal ends as soon as the closest hit lies before the end of the
-//! current cell. Leaves hold their triangles in SIMD blocks of four (the BVH's `TriBlock`), tested
-//! as the BVH tests them (`test_blocks`: the watertight test's edge functions two blocks at a time
-//! in AVX2, the survivors finished by the scalar test, so hits are bit-identical to it), with a
-//! per-ray mailbox in front of the finish.
+//! current cell. Leaves hold their triangles in SIMD blocks of eight (`leaf.rs`: the watertight
+//! test's edge functions on a whole block in one AVX2 pass, the survivors decided by the scalar
+//! test, so hits are bit-identical to it), with a per-ray mailbox in front of the scalar test.
 //!
 //! The node test uses AVX2 when the CPU has it (detected once, at run time), otherwise the same
 //! operations lane by lane.
 
+#[cfg(target_arch = "x86_64")]
+use super::leaf::LeafRay8;
+use super::leaf::{self, KdBlock, LeafRay, LANES};
 use super::wide::{self, Cell, RayPlanes};
 use super::{KdNode8, KdTree, WIDE_STACK};
-use crate::accel::bvh::TriBlock;
-use crate::accel::bvh::{far_scale, test_blocks, RayBox, RayTri};
+use crate::accel::bvh::{far_scale, RayBox};
 use crate::accel::{Hit, Primitives, TraversalStats};
 use crate::math::{Ray, Vec3};
 use std::mem::MaybeUninit;
@@ -40,7 +41,7 @@ impl KdTree {
         if wide::is_leaf(cell) {
             let (first, _) = wide::leaf_range(cell);
             let at = self.blocks.as_ptr().wrapping_add(first);
-            crate::accel::prefetch(at, 2 * std::mem::size_of::<TriBlock>());
+            crate::accel::prefetch(at, std::mem::size_of::<KdBlock>());
         } else {
             let at = self.nodes.as_ptr().wrapping_add(cell as usize);
             crate::accel::prefetch(at, std::mem::size_of::<KdNode8>());
@@ -92,7 +93,15 @@ impl KdTree {
             self.bounds
                 .slab_intersect(ray, Vec3::from(rb.inv), t_max * far_scale())?;
         let planes = RayPlanes::new(rb.o, rb.inv);
-        let rt = RayTri::new(ray);
+        let rt = LeafRay::new(ray);
+        // The filter's ray constants broadcast once per ray (not once per block).
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `AVX` is true only inside `traverse_avx2`.
+        let rt8 = if AVX {
+            Some(unsafe { LeafRay8::new(&rt) })
+        } else {
+            None
+        };
         let mut stack = [const { MaybeUninit::<Waiting>::uninit() }; WIDE_STACK];
         let mut sp = 0usize;
         let (mut near, mut far) = ([0.0f32; 8], [0.0f32; 8]);
@@ -104,7 +113,9 @@ impl KdTree {
                 // SAFETY: node cells hold indices of nodes the collapse wrote (`wide.rs`).
                 let n = unsafe { self.nodes.get_unchecked(cur as usize) };
                 // Cells starting beyond the closest hit cannot hold a nearer one.
-                let t_end = t1.min(t_max);
+                // (Neither is NaN: a plain comparison, not `f32::min`'s NaN handling, which put
+                // a compare and a blend on the step's path.)
+                let t_end = if t_max < t1 { t_max } else { t1 };
                 #[cfg(target_arch = "x86_64")]
                 let mask = if AVX {
                     // SAFETY: `AVX` is true only inside `traverse_avx2`.
@@ -166,15 +177,23 @@ impl KdTree {
             } else {
                 let (first, count) = wide::leaf_range(cur);
                 stats.prim_tests += count as u64;
-                let blocks = &self.blocks[first..first + count.div_ceil(4)];
+                let blocks = &self.blocks[first..first + count.div_ceil(LANES)];
                 // A primitive tested in an earlier leaf either missed or is already `best` (hits
                 // beyond their leaf are kept, not discarded), so testing it again cannot help.
                 let seen = |p: u32| {
                     let slot = (p.wrapping_mul(0x9E37_79B9) >> 27) as usize;
                     std::mem::replace(&mut mail[slot], p) == p
                 };
-                test_blocks::<P, ANY, AVX>(
-                    blocks, count, &rt, prims, ray, &mut t_max, &mut best, stats, seen,
+                let filter = |b: &KdBlock, t_max: f32| {
+                    #[cfg(target_arch = "x86_64")]
+                    if let Some(r8) = &rt8 {
+                        // SAFETY: `rt8` is set only inside `traverse_avx2`.
+                        return unsafe { r8.candidates(b, t_max) };
+                    }
+                    rt.candidates_scalar(b, t_max)
+                };
+                leaf::test_leaf::<P, ANY>(
+                    blocks, count, prims, ray, &mut t_max, &mut best, stats, filter, seen,
                 );
                 if ANY && best.is_some() {
                     return best;

@@ -33,6 +33,9 @@ fn leaf(first_block: u32, count: u32) -> Cell {
     LEAF | (count as u64) << 32 | first_block as u64
 }
 
+/// Levels of the binary tree in one node.
+pub const LEVELS: usize = 3;
+
 /// Plane `k` is slot `k` of a binary heap: plane 0 splits the node's cell, planes `1 + b0` split its
 /// halves, planes `3 + 2 b0 + b1` their halves. Cell `c = 4 b0 + 2 b1 + b2` lies on side `b0` of
 /// plane 0, `b1` of plane `1 + b0` and `b2` of plane `3 + 2 b0 + b1` (0 below, 1 above). Where the
