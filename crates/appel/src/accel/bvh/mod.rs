@@ -11,10 +11,6 @@ mod wide;
 pub use build::{BvhOptions, BvhSplit};
 pub use node::BvhNode;
 pub(crate) use traverse::{far_scale, RayBox};
-// Nothing outside the BVH uses these since the kd-tree has leaves of its own (`kdtree/leaf.rs`);
-// kept so that `wide`'s re-exports of them stay used until `wide` drops them.
-#[allow(unused_imports)]
-pub(crate) use wide::{test_blocks, RayTri};
 pub use wide::{QuadBlock, TriBlock, WideBvh, WideNode, PACKET};
 
 use super::{AccelStats, Hit, Primitives, TraversalStats};

@@ -1,5 +1,4 @@
-//! A leaf's triangle blocks against one ray: the part of the traversal the wide BVH and the
-//! kd-tree share.
+//! A leaf's blocks of triangles (or of pairs of triangles) against one ray.
 
 use super::quad_block::QuadBlock;
 use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
@@ -8,9 +7,7 @@ use crate::math::{Ray, Vec3};
 
 /// Tests a leaf's triangle blocks (and calls back its other primitives), narrowing `t_max` and
 /// setting `best` at each nearer hit; with `ANY`, returns at the first. `count` is the leaf's
-/// number of primitives (the last block's unused lanes are skipped). `seen` is asked about each
-/// candidate that passed the filter before it is finished: a structure that stores a primitive in
-/// several leaves (the kd-tree) answers from its mailbox whether this ray already tested it.
+/// number of primitives (the last block's unused lanes are skipped).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
@@ -22,7 +19,6 @@ pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
     t_max: &mut f32,
     best: &mut Option<Hit>,
     stats: &mut TraversalStats,
-    mut seen: impl FnMut(u32) -> bool,
 ) {
     let mut vals = LaneValues::new();
     let mut at = 0;
@@ -53,15 +49,14 @@ pub(crate) fn test_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
             (b.id[bit % 4], b.triangle(bit % 4))
         };
         // SAFETY: the filter run into `vals` just kept the lanes of `m`.
-        if unsafe { decide::<P, ANY>(m, &vals, lane, &mut seen, prims, ray, t_max, best, stats) } {
+        if unsafe { decide::<P, ANY>(m, &vals, lane, prims, ray, t_max, best, stats) } {
             return;
         }
     }
 }
 
 /// Decides the lanes in mask `m`, lowest first: `lane(bit)` is a lane's primitive and its
-/// triangle (`None` for a primitive called back), `seen` skips primitives this ray has tested
-/// already. Narrows `t_max` and sets `best` at each nearer hit; returns whether an any-hit query
+/// triangle (`None` for a primitive called back). Narrows `t_max` and sets `best` at each nearer hit; returns whether an any-hit query
 /// (`ANY`) is answered.
 ///
 /// # Safety
@@ -72,7 +67,6 @@ unsafe fn decide<P: Primitives, const ANY: bool>(
     mut m: u32,
     vals: &LaneValues,
     lane: impl Fn(usize) -> (u32, Option<[Vec3; 3]>),
-    seen: &mut impl FnMut(u32) -> bool,
     prims: &P,
     ray: &Ray,
     t_max: &mut f32,
@@ -83,9 +77,6 @@ unsafe fn decide<P: Primitives, const ANY: bool>(
         let bit = m.trailing_zeros() as usize;
         m &= m - 1;
         let (id, tri) = lane(bit);
-        if seen(id) {
-            continue;
-        }
         let h = match tri {
             Some(tri) => finish(vals, bit, tri, ray, *t_max),
             None => test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats),
@@ -136,19 +127,7 @@ pub(crate) fn test_quads<P: Primitives, const ANY: bool, const AVX: bool>(
         let m = m & (lanes | pairs << 4);
         let lane = |bit: usize| (q.prim(bit), q.triangle(bit));
         // SAFETY: the filter run into `vals` just kept the lanes of `m`.
-        if unsafe {
-            decide::<P, ANY>(
-                m,
-                &vals,
-                lane,
-                &mut |_| false,
-                prims,
-                ray,
-                t_max,
-                best,
-                stats,
-            )
-        } {
+        if unsafe { decide::<P, ANY>(m, &vals, lane, prims, ray, t_max, best, stats) } {
             return;
         }
     }

@@ -15,11 +15,9 @@ mod quad_block;
 mod simd;
 mod traverse;
 
-pub(crate) use leaf::test_blocks;
 pub use node::WideNode;
 pub use packet::PACKET;
 pub use quad_block::{QuadBlock, ID, PAIR, SWAP};
-pub(crate) use tri_block::RayTri;
 pub use tri_block::TriBlock;
 
 use super::node::BvhNode;

@@ -331,9 +331,7 @@ impl<const W: usize> WideBvh<W> {
         let blocks = &self.blocks[first..first + count.div_ceil(4)];
         if leaf & node::NO_TRIANGLES == 0 {
             let rt = rt.get_or_insert_with(|| RayTri::new(ray));
-            test_blocks::<P, ANY, AVX>(blocks, count, rt, prims, ray, t_max, best, stats, |_| {
-                false
-            });
+            test_blocks::<P, ANY, AVX>(blocks, count, rt, prims, ray, t_max, best, stats);
             return;
         }
         // Spheres, implicit surfaces, instances: no filter, every primitive called back.
