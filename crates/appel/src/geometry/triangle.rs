@@ -33,24 +33,10 @@ impl TriangleTest {
 #[inline]
 pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<PrimHit> {
     let d = ray.dir;
-    // Permutation: kz is the axis of the largest |d| component.
-    let ad = d.abs();
-    let kz = if ad.x > ad.y {
-        if ad.x > ad.z {
-            0
-        } else {
-            2
-        }
-    } else if ad.y > ad.z {
-        1
-    } else {
-        2
-    };
-    if ad[kz] == 0.0 {
+    let [kx, ky, kz] = watertight_axes(d);
+    if d[kz] == 0.0 {
         return None;
     }
-    let kx = if kz == 2 { 0 } else { kz + 1 };
-    let ky = if kx == 2 { 0 } else { kx + 1 };
     let permute = |v: Vec3| Vec3::new(v[kx], v[ky], v[kz]);
     let d = permute(d);
     let mut p0t = permute(p0 - ray.origin);
@@ -87,7 +73,43 @@ pub fn watertight(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option
         [p0t.z, p1t.z, p2t.z],
         [e0, e1, e2],
         t_max,
-        ad[kz],
+        ray.dir[kz].abs(),
+    )
+}
+
+/// The axes in [`watertight`]'s order: `kz` that of the largest direction component (ties
+/// broken as the comparisons below break them), then `kx` and `ky` its cyclic successors, which keep the triangle's winding (pbrt-v4 section 6.5.3).
+#[inline(always)]
+fn watertight_axes(d: Vec3) -> [usize; 3] {
+    let ad = d.abs();
+    let kz = if ad.x > ad.y {
+        if ad.x > ad.z {
+            0
+        } else {
+            2
+        }
+    } else if ad.y > ad.z {
+        1
+    } else {
+        2
+    };
+    let kx = if kz == 2 { 0 } else { kz + 1 };
+    let ky = if kx == 2 { 0 } else { kx + 1 };
+    [kx, ky, kz]
+}
+
+/// What [`watertight`] computes of the ray alone, with its operations: the axes
+/// ([`watertight_axes`]), the origin in their order, and the shear `(-d[kx] / d[kz], -d[ky] /
+/// d[kz], 1 / d[kz])`. The SIMD filters take it once per ray, so that each lane then repeats the
+/// scalar test's remaining operations exactly.
+#[inline(always)]
+pub(crate) fn watertight_shear(ray: &Ray) -> ([usize; 3], [f32; 3], [f32; 3]) {
+    let k @ [kx, ky, kz] = watertight_axes(ray.dir);
+    let (o, d) = (ray.origin, ray.dir);
+    (
+        k,
+        [o[kx], o[ky], o[kz]],
+        [-d[kx] / d[kz], -d[ky] / d[kz], 1.0 / d[kz]],
     )
 }
 

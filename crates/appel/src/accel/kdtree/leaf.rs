@@ -14,7 +14,7 @@
 //! so a leaf reports exactly the hits that testing its triangles one by one reports.
 
 use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
-use crate::geometry::triangle::watertight;
+use crate::geometry::triangle::{watertight, watertight_shear};
 use crate::geometry::PrimHit;
 use crate::math::{Ray, Vec3};
 
@@ -83,28 +83,10 @@ pub struct LeafRay {
 impl LeafRay {
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
-        let ad = ray.dir.abs();
-        let kz = if ad.x > ad.y {
-            if ad.x > ad.z {
-                0
-            } else {
-                2
-            }
-        } else if ad.y > ad.z {
-            1
-        } else {
-            2
-        };
-        let kx = if kz == 2 { 0 } else { kz + 1 };
-        let ky = if kx == 2 { 0 } else { kx + 1 };
-        let d = ray.dir;
         // A zero direction gives NaN shears: every lane survives the filter and the scalar test
         // rejects it, as it rejects such a ray.
-        Self {
-            k: [kx, ky, kz],
-            o: [ray.origin[kx], ray.origin[ky], ray.origin[kz]],
-            s: [-d[kx] / d[kz], -d[ky] / d[kz], 1.0 / d[kz]],
-        }
+        let (k, o, s) = watertight_shear(ray);
+        Self { k, o, s }
     }
 
     /// Bit `i` is set if lane `i` of `b` may hit in `(0, t_max)`, one lane at a time: the portable

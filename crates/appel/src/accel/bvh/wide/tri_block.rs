@@ -11,7 +11,7 @@
 #[cfg(target_arch = "x86_64")]
 use super::simd;
 use crate::accel::Primitives;
-use crate::geometry::triangle::{watertight, watertight_finish};
+use crate::geometry::triangle::{watertight, watertight_finish, watertight_shear};
 use crate::geometry::PrimHit;
 use crate::math::{Ray, Vec3};
 use std::mem::MaybeUninit;
@@ -240,28 +240,10 @@ pub struct RayTri {
 impl RayTri {
     #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
-        let ad = ray.dir.abs();
-        let kz = if ad.x > ad.y {
-            if ad.x > ad.z {
-                0
-            } else {
-                2
-            }
-        } else if ad.y > ad.z {
-            1
-        } else {
-            2
-        };
-        let kx = if kz == 2 { 0 } else { kz + 1 };
-        let ky = if kx == 2 { 0 } else { kx + 1 };
-        let d = ray.dir;
         // A zero direction gives NaN shears: every lane survives the filter and the scalar test
         // rejects it, as it rejects such a ray.
-        Self {
-            k: [kx, ky, kz],
-            o: [ray.origin[kx], ray.origin[ky], ray.origin[kz]],
-            s: [-d[kx] / d[kz], -d[ky] / d[kz], 1.0 / d[kz]],
-        }
+        let (k, o, s) = watertight_shear(ray);
+        Self { k, o, s }
     }
 
     /// Bit `i` is set if lane `i` may hit in `(0, t_max)`: the lanes to finish one by one (with
