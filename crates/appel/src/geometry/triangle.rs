@@ -113,6 +113,42 @@ pub(crate) fn watertight_shear(ray: &Ray) -> ([usize; 3], [f32; 3], [f32; 3]) {
     )
 }
 
+/// One lane of the SIMD triangle filters written out in scalar (their portable fallbacks), from
+/// the ray's [`watertight_shear`] and the lane's vertices `v[k][axis]`: [`watertight`]'s operations
+/// in its order up to the range of `t`. Returns whether the lane may hit in `(0, t_max)` (a lane is
+/// dropped only where [`watertight`] certainly misses), and the sheared `x` and `y` and scaled `z`
+/// of the three vertices and the edge functions, the values [`watertight_finish`] takes.
+#[inline(always)]
+pub(crate) fn watertight_filter_lane(
+    (k, o, s): ([usize; 3], [f32; 3], [f32; 3]),
+    v: [[f32; 3]; 3],
+    t_max: f32,
+) -> (bool, [f32; 12]) {
+    let vert = |p: [f32; 3]| {
+        let z = p[k[2]] - o[2];
+        (p[k[0]] - o[0] + s[0] * z, p[k[1]] - o[1] + s[1] * z, z)
+    };
+    let (x0, y0, z0) = vert(v[0]);
+    let (x1, y1, z1) = vert(v[1]);
+    let (x2, y2, z2) = vert(v[2]);
+    let e0 = x1 * y2 - y1 * x2;
+    let e1 = x2 * y0 - y2 * x0;
+    let e2 = x0 * y1 - y0 * x1;
+    let any_zero = e0 == 0.0 || e1 == 0.0 || e2 == 0.0;
+    let outside = (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0);
+    let det = e0 + e1 + e2;
+    let (z0, z1, z2) = (z0 * s[2], z1 * s[2], z2 * s[2]);
+    let t_scaled = e0 * z0 + e1 * z1 + e2 * z2;
+    let loose = t_max * det * (1.0 + 4.0 * f32::EPSILON);
+    let reject_t = det == 0.0
+        || (det < 0.0 && (t_scaled >= 0.0 || t_scaled < loose))
+        || (det > 0.0 && (t_scaled <= 0.0 || t_scaled > loose));
+    (
+        any_zero || !(outside || reject_t),
+        [x0, x1, x2, y0, y1, y2, z0, z1, z2, e0, e1, e2],
+    )
+}
+
 /// The rest of [`watertight`] from the translated, permuted and sheared vertices (`z` already
 /// scaled by the shear's `sz`), the edge functions, and `dz_abs`, the magnitude of the ray
 /// direction's largest component (`1 / |sz|`): the inside test, the determinant, the range of `t`

@@ -44,23 +44,9 @@ pub(crate) fn pair_up<P: Primitives>(prims: &P) -> Option<Vec<u32>> {
         .with_min_len(4096)
         .map(|i| pairs_with_next(prims, i))
         .collect();
-    let pairs = {
-        let mut pairs = 0;
-        let mut i = 0;
-        while i + 1 < n {
-            if with_next[i] != Pairing::None {
-                pairs += 1;
-                i += 2;
-            } else {
-                i += 1;
-            }
-        }
-        pairs
-    };
-    if 4 * pairs < n {
-        return None;
-    }
-    let mut items = Vec::with_capacity(n - pairs);
+    // Room for no pairs at all: the pages past the items written are never touched, so they cost
+    // no resident memory.
+    let mut items = Vec::with_capacity(n);
     let mut i = 0;
     while i < n {
         let with = if i + 1 < n {
@@ -75,6 +61,11 @@ pub(crate) fn pair_up<P: Primitives>(prims: &P) -> Option<Vec<u32>> {
             items.push(i as u32);
             i += 1;
         }
+    }
+    // Each pair made one item of two primitives.
+    let pairs = n - items.len();
+    if 4 * pairs < n {
+        return None;
     }
     Some(items)
 }

@@ -14,7 +14,7 @@
 //! so a leaf reports exactly the hits that testing its triangles one by one reports.
 
 use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
-use crate::geometry::triangle::{watertight, watertight_shear};
+use crate::geometry::triangle::{watertight, watertight_filter_lane, watertight_shear};
 use crate::geometry::PrimHit;
 use crate::math::{Ray, Vec3};
 
@@ -94,34 +94,9 @@ impl LeafRay {
     pub fn candidates_scalar(&self, b: &KdBlock, t_max: f32) -> u32 {
         let mut mask = 0;
         for lane in 0..LANES {
-            let ld = |k: usize, a: usize| b.v[3 * k + self.k[a]][lane];
-            let vert = |k: usize| {
-                let z = ld(k, 2) - self.o[2];
-                (
-                    ld(k, 0) - self.o[0] + self.s[0] * z,
-                    ld(k, 1) - self.o[1] + self.s[1] * z,
-                    z,
-                )
-            };
-            let (x0, y0, z0) = vert(0);
-            let (x1, y1, z1) = vert(1);
-            let (x2, y2, z2) = vert(2);
-            let e0 = x1 * y2 - y1 * x2;
-            let e1 = x2 * y0 - y2 * x0;
-            let e2 = x0 * y1 - y0 * x1;
-            let any_zero = e0 == 0.0 || e1 == 0.0 || e2 == 0.0;
-            let outside = (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0);
-            let det = e0 + e1 + e2;
-            let sz = self.s[2];
-            let (z0, z1, z2) = (z0 * sz, z1 * sz, z2 * sz);
-            let t_scaled = e0 * z0 + e1 * z1 + e2 * z2;
-            let loose = t_max * det * (1.0 + 4.0 * f32::EPSILON);
-            let reject_t = det == 0.0
-                || (det < 0.0 && (t_scaled >= 0.0 || t_scaled < loose))
-                || (det > 0.0 && (t_scaled <= 0.0 || t_scaled > loose));
-            if any_zero || !(outside || reject_t) {
-                mask |= 1 << lane;
-            }
+            let v = [0, 1, 2].map(|k| [0, 1, 2].map(|a| b.v[3 * k + a][lane]));
+            let (kept, _) = watertight_filter_lane((self.k, self.o, self.s), v, t_max);
+            mask |= (kept as u32) << lane;
         }
         mask
     }
