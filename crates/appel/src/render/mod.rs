@@ -88,10 +88,13 @@ fn sample_offset(s: u32) -> (f32, f32) {
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
     match scene.settings.integrator {
         IntegratorKind::Raycast => render_with(scene, &Raycast, options),
+        IntegratorKind::Path | IntegratorKind::Direct => Err(Error::Invalid(
+            "the path and direct integrators are not built into this version".into(),
+        )),
         IntegratorKind::Whitted => render_with(
             scene,
             &Whitted {
-                max_depth: scene.settings.max_depth,
+                max_depth: scene.settings.max_depth.max(0) as u32,
             },
             options,
         ),
