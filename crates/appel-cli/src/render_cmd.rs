@@ -1,6 +1,6 @@
 use crate::scene_args::{load_scene_with, ViewArgs};
 use anyhow::{anyhow, bail, Context, Result};
-use appel::io::image::{write_image, Aovs, ImageFormat};
+use appel::output::image::{write_image, Aovs, ImageFormat};
 use appel::render::{render, RenderOptions};
 use appel::scene::{Description, LoadStep, SceneOptions};
 use indicatif::{ProgressBar, ProgressStyle};

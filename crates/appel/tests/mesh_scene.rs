@@ -1,7 +1,7 @@
 //! `type = "mesh"` shapes in scene files, and framing a bare model.
 
-use appel::io::write_ply;
 use appel::math::Vec3;
+use appel::output::write_ply;
 use appel::render::{render, RenderOptions, MISS_ID};
 use appel::scene::{frame_model, load_description, model_description, Scene};
 use std::path::{Path, PathBuf};
