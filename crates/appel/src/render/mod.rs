@@ -3,6 +3,7 @@
 mod film;
 pub mod integrator;
 pub mod optics;
+pub mod sampler;
 
 pub use film::{Film, PixelAov, MISS_ID};
 pub use integrator::{surface_hit, Integrator, Raycast, SurfaceHit, Whitted};
