@@ -1,8 +1,11 @@
 //! Rendering: camera rays over image tiles in parallel, an integrator per ray, results on a film.
 
 mod film;
+pub mod film_block;
+pub mod filter;
 pub mod integrator;
 pub mod optics;
+pub mod progressive;
 pub mod sampler;
 
 pub use film::{Film, PixelAov, MISS_ID};
@@ -49,6 +52,8 @@ impl RayCounts {
 pub struct TraceContext {
     pub rays: RayCounts,
     pub traversal: TraversalStats,
+    /// Monte Carlo samples whose value was not finite (counted as zero).
+    pub invalid_samples: u64,
 }
 
 /// What a render did.
@@ -57,9 +62,19 @@ pub struct RenderStats {
     pub time: Duration,
     pub rays: RayCounts,
     pub traversal: TraversalStats,
+    /// Samples per pixel taken (fewer than asked when a time limit stopped the render).
+    pub spp: u32,
+    pub invalid_samples: u64,
 }
 
 impl RenderStats {
+    pub(crate) fn merge(&mut self, ctx: &TraceContext) {
+        self.rays.merge(&ctx.rays);
+        self.traversal.merge(&ctx.traversal);
+        self.invalid_samples += ctx.invalid_samples;
+    }
+
+
     pub fn mrays_per_second(&self) -> f64 {
         self.rays.total() as f64 / self.time.as_secs_f64().max(1e-9) / 1e6
     }
@@ -72,6 +87,8 @@ pub struct RenderOptions<'a> {
     pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
     /// When set (Ctrl-C), the render stops after the tiles in flight and returns [`Error::Cancelled`].
     pub cancel: Option<&'a AtomicBool>,
+    /// Monte Carlo integrators: stop after the pass during which this much time has passed.
+    pub time_limit: Option<Duration>,
 }
 
 /// Sub-pixel positions: sample 0 is the pixel centre (so `spp = 1` is exactly the convention's
