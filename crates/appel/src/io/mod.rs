@@ -1,6 +1,7 @@
 //! Files in and out: images, and triangle meshes (PLY, OBJ, glTF).
 
 mod atomic;
+pub mod bitmap_read;
 pub mod gltf;
 pub mod image;
 pub mod mesh_file;

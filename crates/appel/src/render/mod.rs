@@ -1,8 +1,10 @@
 //! Rendering: camera rays over image tiles in parallel, an integrator per ray, results on a film.
 
+pub mod emitter;
 mod film;
 pub mod integrator;
 pub mod optics;
+pub mod texture;
 
 pub use film::{Film, PixelAov, MISS_ID};
 pub use integrator::{surface_hit, Integrator, Raycast, SurfaceHit, Whitted};
