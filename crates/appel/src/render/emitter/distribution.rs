@@ -165,3 +165,103 @@ impl Distribution2D {
         self.pmf_cell(ix, iy) * (nx * ny) as f32
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::chi2_sphere::Rng;
+    use super::*;
+
+    /// Pearson's statistic of `counts` against `probs` times the total, and its degrees of
+    /// freedom; probabilities of zero must see no samples.
+    fn pearson(counts: &[f64], probs: &[f64]) -> (f64, usize) {
+        let n: f64 = counts.iter().sum();
+        let mut chi2 = 0.0;
+        let mut dof = 0;
+        for (&o, &p) in counts.iter().zip(probs) {
+            if p == 0.0 {
+                assert_eq!(o, 0.0, "samples in a bin of zero probability");
+                continue;
+            }
+            chi2 += (o - n * p).powi(2) / (n * p);
+            dof += 1;
+        }
+        (chi2, dof - 1)
+    }
+
+    #[test]
+    fn one_dimensional_sampling_matches_its_density() {
+        let weights = [0.5, 0.0, 3.0, 1.0, 0.0, 2.5, 0.25, 4.0];
+        let d = Distribution1D::new(&weights);
+        let total: f32 = weights.iter().sum();
+        for (i, w) in weights.iter().enumerate() {
+            assert!((d.pmf(i) - w / total).abs() < 1e-6);
+        }
+        // Density integrates to one (midpoint rule, exact for a step function on this grid).
+        let m = 800;
+        let integral: f32 = (0..m).map(|k| d.pdf((k as f32 + 0.5) / m as f32)).sum::<f32>() / m as f32;
+        assert!((integral - 1.0).abs() < 1e-5, "{integral}");
+        // Samples over 32 sub-bins (four per bin) against the density's mass there.
+        let sub = 32;
+        let mut counts = vec![0.0; sub];
+        let mut rng = Rng::new(3);
+        for _ in 0..200_000 {
+            let (x, pdf, i) = d.sample_continuous(rng.next_f32());
+            assert!((0.0..1.0).contains(&x));
+            assert_eq!(pdf, d.pdf(x));
+            assert_eq!(i, (x * 8.0) as usize);
+            counts[(x * sub as f32) as usize] += 1.0;
+        }
+        let probs: Vec<f64> = (0..sub).map(|k| d.pmf(k / 4) as f64 / 4.0).collect();
+        let (chi2, dof) = pearson(&counts, &probs);
+        // The 0.1% critical value of χ² with 23 degrees of freedom is 49.7.
+        assert_eq!(dof, 23);
+        assert!(chi2 < 49.7, "chi2 {chi2}");
+    }
+
+    #[test]
+    fn two_dimensional_sampling_matches_its_density() {
+        let (nx, ny) = (5, 4);
+        let weights: Vec<f32> = (0..nx * ny)
+            .map(|i| if i % 7 == 3 { 0.0 } else { 1.0 + (i * i % 11) as f32 })
+            .collect();
+        let d = Distribution2D::new(&weights, nx, ny);
+        let total: f32 = weights.iter().sum();
+        let mut counts = vec![0.0; nx * ny];
+        let mut rng = Rng::new(5);
+        for _ in 0..200_000 {
+            let (p, pdf, [ix, iy]) = d.sample(rng.vec2());
+            assert!((0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y));
+            assert!((pdf - d.pdf(p)).abs() <= 1e-5 * pdf, "{pdf} vs {}", d.pdf(p));
+            assert_eq!([ix, iy], [(p.x * nx as f32) as usize, (p.y * ny as f32) as usize]);
+            counts[iy * nx + ix] += 1.0;
+        }
+        let probs: Vec<f64> = weights.iter().map(|&w| (w / total) as f64).collect();
+        for (k, &p) in probs.iter().enumerate() {
+            assert!((d.pmf_cell(k % nx, k / nx) as f64 - p).abs() < 1e-6);
+        }
+        let (chi2, dof) = pearson(&counts, &probs);
+        // The 0.1% critical value of χ² with 16 degrees of freedom is 39.25.
+        assert_eq!(dof, 16);
+        assert!(chi2 < 39.25, "chi2 {chi2}");
+        // The density integrates to one.
+        let m = 100;
+        let mut integral = 0.0;
+        for a in 0..m {
+            for b in 0..m {
+                integral += d.pdf(Vec2::new((a as f32 + 0.5) / m as f32, (b as f32 + 0.5) / m as f32));
+            }
+        }
+        assert!((integral / (m * m) as f32 - 1.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn zero_weights_are_uniform_and_never_stuck() {
+        let d = Distribution1D::new(&[0.0, 0.0]);
+        assert_eq!(d.pmf(1), 0.5);
+        assert_eq!(d.sample_discrete(0.75).0, 1);
+        let d = Distribution1D::new(&[0.0, 1.0, 0.0]);
+        assert_eq!(d.sample_discrete(0.0).0, 1);
+        assert_eq!(d.sample_discrete(ONE_MINUS_EPSILON).0, 1);
+        assert_eq!(d.pdf(0.1), 0.0);
+    }
+}
