@@ -1,6 +1,7 @@
 //! Input readers: triangle meshes (PLY, OBJ, glTF), placement and point lists. Writers are in
 //! `output`.
 
+pub mod bitmap_read;
 pub mod gltf;
 pub mod mesh_file;
 pub mod obj;

@@ -1,5 +1,6 @@
 //! Rendering: camera rays over image tiles in parallel, an integrator per ray, results on a film.
 
+pub mod emitter;
 mod film;
 pub mod film_block;
 pub mod filter;
@@ -7,6 +8,7 @@ pub mod integrator;
 pub mod optics;
 pub mod progressive;
 pub mod sampler;
+pub mod texture;
 
 pub use film::{Film, PixelAov, MISS_ID};
 pub use integrator::{surface_hit, Integrator, Raycast, SurfaceHit, Whitted};
