@@ -1,5 +1,7 @@
 //! Rendering: camera rays over image tiles in parallel, an integrator per ray, results on a film.
 
+#[cfg(test)]
+pub(crate) mod chi2;
 pub mod emitter;
 mod film;
 pub mod film_block;
