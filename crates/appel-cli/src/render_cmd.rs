@@ -38,6 +38,10 @@ pub struct RenderArgs {
     /// Override render.spp.
     #[arg(long)]
     spp: Option<u32>,
+    /// Path and direct: stop after the pass of samples during which this many seconds have
+    /// passed (the image then has fewer samples than --spp).
+    #[arg(long, value_name = "SECONDS")]
+    time_limit: Option<f64>,
     /// Override render.max_depth (path and direct: -1 is unlimited).
     #[arg(long, allow_hyphen_values = true)]
     max_depth: Option<i32>,
@@ -55,6 +59,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 args.output.display(),
                 dir.display()
             );
+        }
+    }
+    if let Some(t) = args.time_limit {
+        if !(t.is_finite() && t > 0.0 && t < 1e9) {
+            bail!("--time-limit: expected a positive number of seconds, got {t}");
         }
     }
     let aovs = match &args.aov {
@@ -166,6 +175,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let options = RenderOptions {
         progress: Some(&progress),
         cancel: Some(&cancel),
+        time_limit: args.time_limit.map(std::time::Duration::from_secs_f64),
     };
     let rendered = pool.install(|| render(&scene, &options));
     if let Some(b) = bar {
