@@ -1,10 +1,13 @@
 //! Rendering: camera rays over image tiles in parallel, an integrator per ray, results on a film.
 
+pub mod bsdf;
 #[cfg(test)]
 pub(crate) mod chi2;
 mod film;
+pub mod frame;
 pub mod integrator;
 pub mod optics;
+pub mod spectra;
 
 pub use film::{Film, PixelAov, MISS_ID};
 pub use integrator::{surface_hit, Integrator, Raycast, SurfaceHit, Whitted};
