@@ -213,7 +213,9 @@ impl Chi2Test {
             let (u0, u1) = (-1.0 + i as f64 * du, -1.0 + (i + 1) as f64 * du);
             for j in 0..c.phi_bins {
                 let (v0, v1) = (-PI + j as f64 * dv, -PI + (j + 1) as f64 * dv);
-                let integral = integrate_2d(&f, (u0, u1), (v0, v1), c.tolerance);
+                // A thousandth of a sample is below anything the test can resolve.
+                let floor = 1e-3 / c.samples as f64;
+                let integral = integrate_2d(&f, (u0, u1), (v0, v1), c.tolerance, floor);
                 expected.push(integral * c.samples as f64);
             }
         }
@@ -317,7 +319,7 @@ pub(crate) fn pearson(observed: &[f64], expected: &[f64]) -> (f64, usize, Option
 
 /// Adaptive Simpson quadrature of `f` over `[a, b]` (Kuncir 1962; Lyness 1969 for the
 /// Richardson correction `(S2 - S1) / 15`).
-fn adaptive_simpson(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tolerance: f64) -> f64 {
+fn adaptive_simpson(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tolerance: f64, floor: f64) -> f64 {
     fn step(
         f: &dyn Fn(f64) -> f64,
         (a, b): (f64, f64),
@@ -352,23 +354,28 @@ fn adaptive_simpson(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tolerance: f64) -> f
         *val = (f0, fm, f1);
     }
     let scale = estimates.iter().map(|e| e.abs()).sum::<f64>().max(1e-300);
-    let eps = tolerance * scale;
+    // Relative to the interval's own integral, but never finer than the absolute floor: a cell
+    // of negligible probability needs no digits its count cannot show.
+    let eps = (tolerance * scale).max(floor);
     for (k, (est, (f0, fm, f1))) in estimates.iter().zip(values).enumerate() {
         let (x0, x1) = (a + k as f64 * h, a + (k + 1) as f64 * h);
-        total += step(f, (x0, x1), (f0, fm, f1), *est, eps / n as f64, 12);
+        total += step(f, (x0, x1), (f0, fm, f1), *est, eps / n as f64, 10);
     }
     total
 }
 
-/// Double integral over a rectangle by nested adaptive Simpson rules.
+/// Double integral over a rectangle by nested adaptive Simpson rules, to a relative `tolerance`
+/// or an absolute error `floor`, whichever is looser.
 fn integrate_2d(
     f: &dyn Fn(f64, f64) -> f64,
     (u0, u1): (f64, f64),
     (v0, v1): (f64, f64),
     tolerance: f64,
+    floor: f64,
 ) -> f64 {
-    let inner = |u: f64| adaptive_simpson(&|v| f(u, v), v0, v1, tolerance);
-    adaptive_simpson(&inner, u0, u1, tolerance)
+    let inner_floor = floor / (u1 - u0);
+    let inner = |u: f64| adaptive_simpson(&|v| f(u, v), v0, v1, tolerance, inner_floor);
+    adaptive_simpson(&inner, u0, u1, tolerance, floor)
 }
 
 /// `ln Γ(x)` for `x > 0` by the Lanczos approximation (g = 7, nine coefficients; Lanczos 1964,
@@ -519,7 +526,7 @@ mod tests {
         // ∫∫ over [-1, 1]² of a narrow Gaussian of total mass 1 (σ = 0.02).
         let s = 0.02f64;
         let f = |u: f64, v: f64| (-(u * u + v * v) / (2.0 * s * s)).exp() / (2.0 * PI * s * s);
-        let total = integrate_2d(&f, (-1.0, 1.0), (-1.0, 1.0), 1e-6);
+        let total = integrate_2d(&f, (-1.0, 1.0), (-1.0, 1.0), 1e-6, 1e-9);
         assert!((total - 1.0).abs() < 1e-4, "{total}");
     }
 
