@@ -30,7 +30,7 @@ impl AreaEmitter {
     /// A point of the shape as the shape sampler picks it, kept only if `p` sees its emitting side.
     pub fn sample_li(&self, p: Vec3, u: Vec2) -> Option<EmitterSample> {
         let s = self.shape.sample_direction(p, u)?;
-        if s.wi.dot(s.shape.normal) >= 0.0 || !(s.pdf > 0.0) {
+        if s.wi.dot(s.shape.normal) >= 0.0 || s.pdf.is_nan() || s.pdf <= 0.0 {
             return None;
         }
         Some(EmitterSample {

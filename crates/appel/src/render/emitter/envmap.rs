@@ -168,7 +168,7 @@ impl EnvMap {
             (x, cell)
         };
         let pmf = self.distribution.pmf_cell(ix, iy);
-        if !(pmf > 0.0) {
+        if pmf.is_nan() || pmf <= 0.0 {
             return None;
         }
         let fy = (x.y * (self.height - 1) as f32 - iy as f32).clamp(0.0, 1.0);

@@ -289,7 +289,7 @@ impl SphereCone {
         let point = self.center + self.radius * normal;
         let to = point - self.p;
         let dist = to.length();
-        if !(dist > 0.0) {
+        if dist.is_nan() || dist <= 0.0 {
             return None;
         }
         Some(DirectionSample {
