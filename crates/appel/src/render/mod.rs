@@ -1,9 +1,14 @@
 //! Rendering: camera rays over image tiles in parallel, an integrator per ray, results on a film.
 
+pub mod bsdf;
+#[cfg(test)]
+pub(crate) mod chi2;
 pub mod emitter;
 mod film;
+pub mod frame;
 pub mod integrator;
 pub mod optics;
+pub mod spectra;
 pub mod texture;
 
 pub use film::{Film, PixelAov, MISS_ID};

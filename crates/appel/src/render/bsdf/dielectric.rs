@@ -1,0 +1,68 @@
+//! A smooth dielectric interface (glass, water): Fresnel-weighted delta reflection and
+//! refraction, Mitsuba's `dielectric`.
+
+use super::fresnel::{fresnel_dielectric, reflect, refract};
+use super::{BsdfFlags, BsdfSample};
+use crate::math::{Vec2, Vec3};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dielectric {
+    /// Interior IOR over exterior IOR.
+    pub eta: f32,
+    pub specular_reflectance: Vec3,
+    pub specular_transmittance: Vec3,
+}
+
+impl Dielectric {
+    pub fn new(eta: f32, specular_reflectance: Vec3, specular_transmittance: Vec3) -> Self {
+        Dielectric {
+            eta,
+            specular_reflectance,
+            specular_transmittance,
+        }
+    }
+
+    #[inline]
+    pub fn eval(&self, _wo: Vec3, _wi: Vec3) -> Vec3 {
+        Vec3::ZERO
+    }
+
+    #[inline]
+    pub fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+        0.0
+    }
+
+    #[inline]
+    pub fn eval_pdf(&self, _wo: Vec3, _wi: Vec3) -> (Vec3, f32) {
+        (Vec3::ZERO, 0.0)
+    }
+
+    /// Reflection with probability `F`, else refraction, so the weight carries no Fresnel factor;
+    /// refracted radiance is scaled by `1 / eta²` of the crossing (Veach 1997, section 5.2: radiance
+    /// is compressed into the smaller solid angle of the denser medium).
+    #[inline]
+    pub fn sample(&self, wo: Vec3, u1: f32, _u2: Vec2) -> Option<BsdfSample> {
+        let (r, cos_theta_t, eta_it, eta_ti) = fresnel_dielectric(wo.z, self.eta);
+        Some(if u1 <= r {
+            BsdfSample {
+                wi: reflect(wo),
+                weight: self.specular_reflectance,
+                pdf: r,
+                eta: 1.0,
+                lobe: BsdfFlags::DELTA_REFLECTION,
+            }
+        } else {
+            BsdfSample {
+                wi: refract(wo, cos_theta_t, eta_ti),
+                weight: self.specular_transmittance * (eta_ti * eta_ti),
+                pdf: 1.0 - r,
+                eta: eta_it,
+                lobe: BsdfFlags::DELTA_TRANSMISSION,
+            }
+        })
+    }
+
+    pub fn flags(&self) -> BsdfFlags {
+        BsdfFlags::DELTA_REFLECTION | BsdfFlags::DELTA_TRANSMISSION
+    }
+}

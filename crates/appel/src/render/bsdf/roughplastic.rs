@@ -1,0 +1,312 @@
+//! Rough plastic: a diffuse base under a rough dielectric coating, Mitsuba's `roughplastic`
+//! (after Weidlich and Wilkie 2007). Light entering and leaving the coating is weighted by the
+//! coating's rough transmittance `T(θ) = 1 - albedo of its microfacet reflection`, tabulated at
+//! load time over `cos θ`; the base's internal reflections use the hemispherical average of the
+//! internal microfacet reflection.
+
+use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
+use super::microfacet::{Microfacet, MicrofacetKind};
+use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
+use super::{BsdfFlags, BsdfSample};
+use crate::math::{Vec2, Vec3};
+use std::f32::consts::FRAC_1_PI;
+use std::sync::Mutex;
+
+/// Entries of the rough transmittance table over `cos θ ∈ [0, 1]` (Mitsuba's
+/// `MI_ROUGH_TRANSMITTANCE_RES`).
+pub const TRANSMITTANCE_RES: usize = 64;
+
+type Table = [f32; TRANSMITTANCE_RES];
+
+/// What a rough plastic material computes once at scene load from its constants. Small and
+/// `Copy`: the table is shared, interned per distinct `(distribution, eta)` for the life of the
+/// process (a few hundred bytes each; the same material loaded twice reuses its table).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RoughPlasticParams {
+    /// Isotropic (Mitsuba's `roughplastic` refuses anisotropy).
+    pub distribution: Microfacet,
+    pub eta: f32,
+    pub nonlinear: bool,
+    pub specular_sampling_weight: f32,
+    /// Hemispherical average of the coating's reflectance seen from inside.
+    pub internal_reflectance: f32,
+    /// Transmittance of the coating from outside, at `cos θ = i / (TRANSMITTANCE_RES - 1)`.
+    pub external_transmittance: &'static Table,
+}
+
+impl RoughPlasticParams {
+    /// `distribution` must be isotropic (`alpha_v` is ignored); `eta` is the coating's interior
+    /// IOR over the exterior's; the means are those of the reflectance textures, as for
+    /// [`super::PlasticParams::precompute`]. Costs up to a few tens of milliseconds the first time
+    /// a `(distribution, eta)` is seen (Gauss-Legendre quadrature of the coating's albedo, as
+    /// Mitsuba computes it at load time), nothing after.
+    pub fn precompute(
+        distribution: Microfacet,
+        eta: f32,
+        nonlinear: bool,
+        diffuse_mean: f32,
+        specular_mean: f32,
+    ) -> Self {
+        let alpha = distribution.alpha_u.max(Microfacet::MIN_ALPHA);
+        let distribution = Microfacet {
+            alpha_v: alpha,
+            alpha_u: alpha,
+            ..distribution
+        };
+        let (external_transmittance, internal_reflectance) = tables(distribution.kind, alpha, eta);
+        RoughPlasticParams {
+            distribution,
+            eta,
+            nonlinear,
+            specular_sampling_weight: specular_mean / (diffuse_mean + specular_mean),
+            internal_reflectance,
+            external_transmittance,
+        }
+    }
+}
+
+/// The tables of `(kind, alpha, eta)`, computed once.
+fn tables(kind: MicrofacetKind, alpha: f32, eta: f32) -> (&'static Table, f32) {
+    type Entry = ((MicrofacetKind, u32, u32), &'static Table, f32);
+    static CACHE: Mutex<Vec<Entry>> = Mutex::new(Vec::new());
+    let key = (kind, alpha.to_bits(), eta.to_bits());
+    let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(&(_, t, r)) = cache.iter().find(|(k, _, _)| *k == key) {
+        return (t, r);
+    }
+    let dist = Microfacet::isotropic(kind, alpha, true);
+    let mus = (0..TRANSMITTANCE_RES)
+        .map(|i| (i as f32 / (TRANSMITTANCE_RES - 1) as f32).max(1e-6))
+        .collect::<Vec<_>>();
+    let mut table = [0.0; TRANSMITTANCE_RES];
+    let mut internal = 0.0f64;
+    for (t, &mu) in table.iter_mut().zip(&mus) {
+        let w = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+        *t = transmittance(&dist, w, eta);
+        internal += (reflectance(&dist, w, 1.0 / eta) * mu) as f64;
+    }
+    // 2 ∫ R(μ) μ dμ by the mean over the table's nodes, as Mitsuba takes it.
+    let internal = (2.0 * internal / TRANSMITTANCE_RES as f64) as f32;
+    let table: &'static Table = Box::leak(Box::new(table));
+    cache.push((key, table, internal));
+    (table, internal)
+}
+
+/// Gauss-Legendre nodes and weights on [-1, 1] (roots of the Legendre polynomial by Newton's
+/// method from Chebyshev guesses; Press et al., "Numerical Recipes", 4.6).
+fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    let mut out = vec![(0.0, 0.0); n];
+    for i in 0..n.div_ceil(2) {
+        let mut x = -(std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            // P_n(x) and its derivative by the three-term recurrence.
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=n {
+                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            let p = if n == 0 { 1.0 } else { p1 };
+            let pm1 = if n == 1 { 1.0 } else { p0 };
+            dp = n as f64 * (x * p - pm1) / (x * x - 1.0);
+            let step = p / dp;
+            x -= step;
+            if step.abs() <= 4.0 * x.abs() * f64::EPSILON {
+                break;
+            }
+        }
+        let w = 2.0 / ((1.0 - x * x) * dp * dp);
+        out[i] = (x, w);
+        out[n - 1 - i] = (-x, w);
+    }
+    out
+}
+
+/// Quadrature points `(u, weight)` over the unit square: the product Gauss-Legendre rule of
+/// Mitsuba's `eval_reflectance` and `eval_transmittance`, 32² nodes toward a denser medium and
+/// 128² toward a lighter one, whose total internal reflection makes the integrand rougher.
+fn square_rule(eta: f32) -> Vec<(Vec2, f32)> {
+    let nodes = gauss_legendre(if eta > 1.0 { 32 } else { 128 });
+    let mut out = Vec::with_capacity(nodes.len() * nodes.len());
+    for &(y, wy) in &nodes {
+        for &(x, wx) in &nodes {
+            let u = Vec2::new((x * 0.5 + 0.5) as f32, (y * 0.5 + 0.5) as f32);
+            out.push((u, (wx * wy * 0.25) as f32));
+        }
+    }
+    out
+}
+
+/// Albedo of the microfacet reflection of a dielectric interface for direction `w` (outside,
+/// relative IOR `eta`): the visible-normal estimate `∫ F(w·m) G1(wi, m) dP(m)`.
+fn reflectance(dist: &Microfacet, w: Vec3, eta: f32) -> f32 {
+    let mut sum = 0.0f64;
+    for (u, weight) in square_rule(eta) {
+        let m = dist.sample(w, u).0;
+        let wi = reflect_about(w, m);
+        if wi.z <= 0.0 || w.z <= 0.0 {
+            continue;
+        }
+        let f = fresnel_dielectric(w.dot(m), eta).0;
+        sum += (dist.smith_g1(wi, m) * f * weight) as f64;
+    }
+    sum as f32
+}
+
+/// Albedo of the microfacet refraction through a dielectric interface for direction `w`.
+fn transmittance(dist: &Microfacet, w: Vec3, eta: f32) -> f32 {
+    let mut sum = 0.0f64;
+    for (u, weight) in square_rule(eta) {
+        let m = dist.sample(w, u).0;
+        let (f, cos_t, _, eta_ti) = fresnel_dielectric(w.dot(m), eta);
+        let wi = refract_about(w, m, cos_t, eta_ti);
+        if wi.z * w.z >= 0.0 {
+            continue;
+        }
+        sum += (dist.smith_g1(wi, m) * (1.0 - f) * weight) as f64;
+    }
+    sum as f32
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RoughPlastic {
+    pub distribution: Microfacet,
+    pub eta: f32,
+    pub nonlinear: bool,
+    pub specular_sampling_weight: f32,
+    pub internal_reflectance: f32,
+    pub external_transmittance: &'static Table,
+    pub diffuse_reflectance: Vec3,
+    pub specular_reflectance: Vec3,
+}
+
+impl RoughPlastic {
+    pub fn new(
+        params: &RoughPlasticParams,
+        diffuse_reflectance: Vec3,
+        specular_reflectance: Vec3,
+    ) -> Self {
+        RoughPlastic {
+            distribution: params.distribution,
+            eta: params.eta,
+            nonlinear: params.nonlinear,
+            specular_sampling_weight: params.specular_sampling_weight,
+            internal_reflectance: params.internal_reflectance,
+            external_transmittance: params.external_transmittance,
+            diffuse_reflectance,
+            specular_reflectance,
+        }
+    }
+
+    /// The table linearly interpolated at `cos_theta` in [0, 1].
+    #[inline]
+    fn transmittance(&self, cos_theta: f32) -> f32 {
+        let x = cos_theta * (TRANSMITTANCE_RES - 1) as f32;
+        let i = (x as usize).min(TRANSMITTANCE_RES - 2);
+        let (v0, v1) = (
+            self.external_transmittance[i],
+            self.external_transmittance[i + 1],
+        );
+        v0 + (x - i as f32) * (v1 - v0)
+    }
+
+    #[inline]
+    fn prob_specular(&self, t_o: f32) -> f32 {
+        let s = (1.0 - t_o) * self.specular_sampling_weight;
+        let d = t_o * (1.0 - self.specular_sampling_weight);
+        s / (s + d)
+    }
+
+    #[inline]
+    fn value(&self, wo: Vec3, wi: Vec3, h: Vec3, d: f32, g: f32, t_o: f32) -> Vec3 {
+        let f = fresnel_dielectric(wo.dot(h), self.eta).0;
+        let specular = self.specular_reflectance * (f * d * g / (4.0 * wo.z));
+        let t_i = self.transmittance(wi.z);
+        let base = self.diffuse_reflectance;
+        let base = if self.nonlinear {
+            base / (Vec3::ONE - base * self.internal_reflectance)
+        } else {
+            base / (1.0 - self.internal_reflectance)
+        };
+        specular + base * (FRAC_1_PI / (self.eta * self.eta) * wi.z * t_o * t_i)
+    }
+
+    #[inline]
+    fn density(&self, wo: Vec3, wi: Vec3, h: Vec3, d: f32, g1_o: f32, t_o: f32) -> f32 {
+        let dist = &self.distribution;
+        let specular = if dist.sample_visible {
+            d * g1_o / (4.0 * wo.z)
+        } else {
+            dist.pdf(wo, h) / (4.0 * wi.dot(h))
+        };
+        let p = self.prob_specular(t_o);
+        p * specular + (1.0 - p) * square_to_cosine_hemisphere_pdf(wi)
+    }
+
+    /// The coating's microfacet reflection plus the diffuse base seen through it.
+    #[inline]
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        self.eval_pdf(wo, wi).0
+    }
+
+    #[inline]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return 0.0;
+        }
+        let h = (wo + wi).normalize();
+        let dist = &self.distribution;
+        let t_o = self.transmittance(wo.z);
+        self.density(wo, wi, h, dist.d(h), dist.smith_g1(wo, h), t_o)
+    }
+
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        let h = (wo + wi).normalize();
+        let dist = &self.distribution;
+        let d = dist.d(h);
+        let g1_o = dist.smith_g1(wo, h);
+        let t_o = self.transmittance(wo.z);
+        let value = self.value(wo, wi, h, d, g1_o * dist.smith_g1(wi, h), t_o);
+        (value, self.density(wo, wi, h, d, g1_o, t_o))
+    }
+
+    /// The specular lobe with probability `(1 - T(θo)) w / ((1 - T(θo)) w + T(θo) (1 - w))`,
+    /// `w` the sampling weight, else the cosine-weighted base; the weight is the whole BSDF over
+    /// the mixture's density, as in Mitsuba.
+    pub fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let t_o = self.transmittance(wo.z);
+        let specular = u1 < self.prob_specular(t_o);
+        let (wi, lobe) = if specular {
+            let m = self.distribution.sample(wo, u2).0;
+            (reflect_about(wo, m), BsdfFlags::GLOSSY_REFLECTION)
+        } else {
+            (
+                square_to_cosine_hemisphere(u2),
+                BsdfFlags::DIFFUSE_REFLECTION,
+            )
+        };
+        let (value, pdf) = self.eval_pdf(wo, wi);
+        if pdf.is_nan() || pdf <= 0.0 {
+            return None;
+        }
+        Some(BsdfSample {
+            wi,
+            weight: value / pdf,
+            pdf,
+            eta: 1.0,
+            lobe,
+        })
+    }
+
+    pub fn flags(&self) -> BsdfFlags {
+        BsdfFlags::GLOSSY_REFLECTION | BsdfFlags::DIFFUSE_REFLECTION
+    }
+}

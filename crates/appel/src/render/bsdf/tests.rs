@@ -1,0 +1,521 @@
+//! Properties every BSDF must have (sampling follows the pdf, weights are eval over pdf,
+//! reciprocity, no energy gain) and spot values against Mitsuba 3.
+
+use super::*;
+use crate::render::chi2::{Chi2Test, Config, Pcg32};
+use crate::render::spectra;
+
+const KINDS: [MicrofacetKind; 2] = [MicrofacetKind::Beckmann, MicrofacetKind::Ggx];
+
+fn dir(x: f32, y: f32, z: f32) -> Vec3 {
+    Vec3::new(x, y, z).normalize()
+}
+
+/// Outgoing directions above the surface: near the normal, oblique, grazing.
+fn wos_above() -> [Vec3; 3] {
+    [
+        dir(0.1, 0.05, 1.0),
+        dir(0.6, -0.4, 0.7),
+        dir(-0.3, 0.95, 0.05),
+    ]
+}
+
+fn distributions(alphas: &[(f32, f32)]) -> Vec<Microfacet> {
+    let mut out = Vec::new();
+    for kind in KINDS {
+        for &(au, av) in alphas {
+            for visible in [true, false] {
+                out.push(Microfacet::new(kind, au, av, visible));
+            }
+        }
+    }
+    out
+}
+
+fn rough_conductors() -> Vec<Bsdf> {
+    let (eta, k) = spectra::conductor("Cu").unwrap();
+    distributions(&[(0.1, 0.1), (0.5, 0.5), (0.15, 0.45)])
+        .into_iter()
+        .map(|d| Bsdf::RoughConductor(RoughConductor::new(d, eta, k, Vec3::ONE)))
+        .collect()
+}
+
+fn rough_dielectrics() -> Vec<Bsdf> {
+    let mut out = Vec::new();
+    for d in distributions(&[(0.1, 0.1), (0.4, 0.4), (0.15, 0.45)]) {
+        out.push(Bsdf::RoughDielectric(RoughDielectric::new(
+            d,
+            1.5,
+            Vec3::ONE,
+            Vec3::ONE,
+        )));
+    }
+    out
+}
+
+fn rough_plastics() -> Vec<Bsdf> {
+    let mut out = Vec::new();
+    for d in distributions(&[(0.1, 0.1), (0.4, 0.4)]) {
+        let nonlinear = d.alpha_u > 0.2;
+        let p = RoughPlasticParams::precompute(d, 1.5, nonlinear, 0.5, 1.0);
+        out.push(Bsdf::RoughPlastic(RoughPlastic::new(
+            &p,
+            Vec3::new(0.2, 0.5, 0.8),
+            Vec3::ONE,
+        )));
+    }
+    out
+}
+
+fn plastic(nonlinear: bool, diffuse: Vec3) -> Bsdf {
+    let mean = (diffuse.x + diffuse.y + diffuse.z) / 3.0;
+    let p = PlasticParams::precompute(1.5, nonlinear, mean, 1.0);
+    Bsdf::Plastic(Plastic::new(&p, diffuse, Vec3::ONE))
+}
+
+fn smooth_bsdfs() -> Vec<Bsdf> {
+    vec![
+        Bsdf::Diffuse(Diffuse::new(Vec3::new(0.2, 0.5, 0.8))),
+        plastic(false, Vec3::new(0.2, 0.5, 0.8)),
+        plastic(true, Vec3::splat(0.9)),
+    ]
+}
+
+/// The non-delta part of `bsdf.sample`: delta samples count as failures, since `pdf` does not
+/// see them.
+fn smooth_sample(bsdf: &Bsdf, wo: Vec3, u1: f32, u2: Vec2) -> Option<Vec3> {
+    bsdf.sample(wo, u1, u2)
+        .filter(|s| !s.lobe.is_delta())
+        .map(|s| s.wi)
+}
+
+/// Chi-square test of each (BSDF, wo) pair, with the pdf integrating to the sampler's success
+/// rate, and every sample's weight and pdf agreeing with eval and pdf.
+fn check_sampling(bsdfs: &[Bsdf], wos: &[Vec3], tests: usize) {
+    let test = Chi2Test::new(Config {
+        samples: 40_000,
+        cos_theta_bins: 24,
+        phi_bins: 48,
+        tests,
+        ..Default::default()
+    });
+    for bsdf in bsdfs {
+        for &wo in wos {
+            let o = test.run(
+                |u1, u2| smooth_sample(bsdf, wo, u1, u2),
+                |wi| bsdf.pdf(wo, wi),
+            );
+            assert!(o.passed, "{bsdf:?} wo = {wo}: {o}");
+            // pdf integrates to the probability of returning a (non-delta) direction; the
+            // difference is binomial noise, ~0.002 here.
+            assert!(
+                (o.pdf_integral - o.success_rate).abs() < 0.01,
+                "{bsdf:?} wo = {wo}: {o}"
+            );
+            check_weights(bsdf, wo);
+        }
+    }
+}
+
+/// `weight == eval / pdf` and `pdf == pdf()` for sampled directions; eval_pdf agrees with both.
+fn check_weights(bsdf: &Bsdf, wo: Vec3) {
+    let mut rng = Pcg32::new(11, 2);
+    for _ in 0..200 {
+        let Some(s) = bsdf.sample(wo, rng.next_f32(), rng.next_vec2()) else {
+            continue;
+        };
+        assert!(bsdf.flags().contains(s.lobe), "{bsdf:?}: {s:?}");
+        assert!((s.wi.length() - 1.0).abs() < 1e-4, "{bsdf:?}: {s:?}");
+        if s.lobe.is_delta() {
+            continue;
+        }
+        let (value, pdf) = bsdf.eval_pdf(wo, s.wi);
+        assert!((pdf - bsdf.pdf(wo, s.wi)).abs() <= 1e-5 * pdf, "{bsdf:?}");
+        assert!((value - bsdf.eval(wo, s.wi)).abs().max_element() <= 1e-5 * value.max_element());
+        assert!(
+            (s.pdf - pdf).abs() <= 2e-3 * pdf,
+            "{bsdf:?} wo = {wo}: {s:?} vs {pdf}"
+        );
+        let expected = value / pdf;
+        let expected = match bsdf {
+            // Mitsuba's weight cancels D of the unwidened distribution against the widened one it
+            // sampled (see RoughDielectric::sample): eval / pdf times the ratio of the two D at
+            // the generalized half vector.
+            Bsdf::RoughDielectric(b) if !b.distribution.sample_visible => {
+                let reflect = wo.z * s.wi.z > 0.0;
+                let eta = if wo.z > 0.0 { b.eta } else { 1.0 / b.eta };
+                let m = (wo + s.wi * if reflect { 1.0 } else { eta }).normalize();
+                let m = m * m.z.signum();
+                let widened = b.distribution.scaled(1.2 - 0.2 * wo.z.abs().sqrt());
+                expected * (widened.d(m) / b.distribution.d(m))
+            }
+            _ => expected,
+        };
+        assert!(
+            (s.weight - expected).abs().max_element() <= 2e-3 * expected.max_element() + 1e-6,
+            "{bsdf:?} wo = {wo}: {s:?} vs {expected}"
+        );
+    }
+}
+
+#[test]
+fn diffuse_and_plastic_sampling() {
+    check_sampling(&smooth_bsdfs(), &wos_above(), 9);
+}
+
+#[test]
+fn rough_conductor_sampling() {
+    let bsdfs = rough_conductors();
+    check_sampling(&bsdfs, &wos_above(), bsdfs.len() * 3);
+}
+
+#[test]
+fn rough_dielectric_sampling_both_sides() {
+    let bsdfs = rough_dielectrics();
+    let wos = [
+        dir(0.1, 0.05, 1.0),
+        dir(0.6, -0.4, 0.7),
+        dir(-0.3, 0.95, 0.08),
+        dir(0.2, 0.1, -0.97),
+        dir(-0.5, 0.5, -0.7),
+    ];
+    check_sampling(&bsdfs, &wos, bsdfs.len() * wos.len());
+}
+
+#[test]
+fn rough_plastic_sampling() {
+    let bsdfs = rough_plastics();
+    check_sampling(&bsdfs, &wos_above(), bsdfs.len() * 3);
+}
+
+/// `f(wo, wi) = f(wi, wo)` where the BSDF is reciprocal (all reflection here; refraction is not,
+/// by the radiance scaling).
+#[test]
+fn reflection_is_reciprocal() {
+    let mut bsdfs = smooth_bsdfs();
+    bsdfs.extend(rough_conductors());
+    bsdfs.extend(rough_dielectrics());
+    bsdfs.extend(rough_plastics());
+    let mut rng = Pcg32::new(5, 5);
+    for bsdf in &bsdfs {
+        let mut nonzero = 0;
+        for _ in 0..200 {
+            let a = warp::square_to_cosine_hemisphere(rng.next_vec2());
+            let b = warp::square_to_cosine_hemisphere(rng.next_vec2());
+            if a.z < 1e-3 || b.z < 1e-3 {
+                continue;
+            }
+            let f_ab = bsdf.eval(a, b) / b.z;
+            let f_ba = bsdf.eval(b, a) / a.z;
+            let tol = 1e-4 * f_ab.max_element().max(1e-6);
+            assert!(
+                (f_ab - f_ba).abs().max_element() <= tol,
+                "{bsdf:?}: {f_ab} {f_ba}"
+            );
+            nonzero += (f_ab.max_element() > 0.0) as usize;
+            // The inside of a dielectric reflects reciprocally too.
+            if let Bsdf::RoughDielectric(_) = bsdf {
+                let (a, b) = (-a, -b);
+                let f_ab = bsdf.eval(a, b) / b.z.abs();
+                let f_ba = bsdf.eval(b, a) / a.z.abs();
+                let tol = 1e-4 * f_ab.max_element().max(1e-6);
+                assert!((f_ab - f_ba).abs().max_element() <= tol, "{bsdf:?}");
+            }
+        }
+        assert!(nonzero > 20, "{bsdf:?}");
+    }
+}
+
+/// Energy throughput of a sample: its weight, with refraction's radiance scaling undone (a
+/// white dielectric conserves energy, not radiance).
+fn energy(s: &BsdfSample) -> Vec3 {
+    if s.lobe == BsdfFlags::GLOSSY_TRANSMISSION || s.lobe == BsdfFlags::DELTA_TRANSMISSION {
+        s.weight * s.eta * s.eta
+    } else {
+        s.weight
+    }
+}
+
+/// Directional albedo (the mean sample weight) of white BSDFs is at most 1, and close to 1 for
+/// the lossless ones.
+#[test]
+fn white_bsdfs_gain_no_energy() {
+    let d = |kind, a| Microfacet::new(kind, a, a, true);
+    let mut cases: Vec<(Bsdf, f32)> = vec![
+        (Bsdf::Diffuse(Diffuse::new(Vec3::ONE)), 0.999),
+        (
+            Bsdf::Conductor(Conductor::new(Vec3::ZERO, Vec3::ONE, Vec3::ONE)),
+            0.999,
+        ),
+        (
+            Bsdf::Dielectric(Dielectric::new(1.5, Vec3::ONE, Vec3::ONE)),
+            0.999,
+        ),
+        (
+            Bsdf::ThinDielectric(ThinDielectric::new(1.5, Vec3::ONE, Vec3::ONE)),
+            0.999,
+        ),
+        (plastic(false, Vec3::ONE), 0.5),
+        (plastic(true, Vec3::ONE), 0.5),
+    ];
+    for kind in KINDS {
+        for a in [0.05, 0.3, 0.8] {
+            let mirror = RoughConductor::new(d(kind, a), Vec3::ZERO, Vec3::ONE, Vec3::ONE);
+            cases.push((Bsdf::RoughConductor(mirror), 0.4));
+            let glass = RoughDielectric::new(d(kind, a), 1.5, Vec3::ONE, Vec3::ONE);
+            cases.push((Bsdf::RoughDielectric(glass), 0.4));
+            let p = RoughPlasticParams::precompute(d(kind, a), 1.5, false, 1.0, 1.0);
+            cases.push((
+                Bsdf::RoughPlastic(RoughPlastic::new(&p, Vec3::ONE, Vec3::ONE)),
+                0.3,
+            ));
+        }
+    }
+    let n = 10_000;
+    for (bsdf, lower) in cases {
+        let two_sided = matches!(
+            bsdf,
+            Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) | Bsdf::RoughDielectric(_)
+        );
+        for wo in wos_above() {
+            for wo in [wo, -wo].into_iter().take(if two_sided { 2 } else { 1 }) {
+                let mut rng = Pcg32::new(1, 9);
+                let mut sum = Vec3::ZERO;
+                for _ in 0..n {
+                    if let Some(s) = bsdf.sample(wo, rng.next_f32(), rng.next_vec2()) {
+                        sum += energy(&s);
+                    }
+                }
+                let albedo = sum / n as f32;
+                assert!(albedo.max_element() <= 1.01, "{bsdf:?} wo = {wo}: {albedo}");
+                // Grazing light loses much to shadowing; only the less grazing must be bright.
+                if wo.z.abs() > 0.5 {
+                    assert!(
+                        albedo.min_element() >= lower,
+                        "{bsdf:?} wo = {wo}: {albedo}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Delta lobes against Mitsuba 3's `sample` (u1 = 0.01 and 0.9) and the Fresnel equations.
+#[test]
+fn smooth_lobes_against_mitsuba() {
+    let (eta, k) = spectra::conductor("Au").unwrap();
+    let conductor = Bsdf::Conductor(Conductor::new(eta, k, Vec3::ONE));
+    let glass = Bsdf::Dielectric(Dielectric::new(1.5, Vec3::ONE, Vec3::ONE));
+    let thin = Bsdf::ThinDielectric(ThinDielectric::new(1.5, Vec3::ONE, Vec3::ONE));
+    let w1 = dir(0.3, 0.2, 0.9);
+    let w2 = dir(0.8, -0.1, 0.3);
+    let w3 = dir(0.3, 0.2, -0.9);
+    // (bsdf, wo, u1, wi, weight, pdf, eta) from mi.load_dict({'type': 'conductor', 'material':
+    // 'Au'}), {'type': 'dielectric', 'int_ior': 1.5}, {'type': 'thindielectric', 'int_ior': 1.5}.
+    #[rustfmt::skip]
+    let cases = [
+        (conductor, w1, 0.01, [-0.3094264, -0.2062843, 0.9282792], [0.9666067, 0.8018901, 0.324675], 1.0, 1.0),
+        (conductor, w2, 0.9, [-0.9299812, 0.1162476, 0.3487429], [0.959435, 0.8197083, 0.4314864], 1.0, 1.0),
+        (glass, w1, 0.01, [-0.3094264, -0.2062843, 0.9282792], [1.0; 3], 0.04038507, 1.0),
+        (glass, w1, 0.9, [-0.2062843, -0.1375228, -0.9687798], [0.4444445; 3], 0.9596149, 1.5),
+        (glass, w2, 0.01, [-0.9299812, 0.1162476, 0.3487429], [1.0; 3], 0.1659189, 1.0),
+        (glass, w2, 0.9, [-0.6199875, 0.07749844, -0.780775], [0.4444445; 3], 0.8340811, 1.5),
+        (glass, w3, 0.01, [-0.3094264, -0.2062843, -0.9282792], [1.0; 3], 0.04264282, 1.0),
+        (glass, w3, 0.9, [-0.4641396, -0.3094264, 0.8299578], [2.25; 3], 0.9573572, 0.6666667),
+        (thin, w1, 0.01, [-0.3094264, -0.2062843, 0.9282792], [1.0; 3], 0.07763486, 1.0),
+        (thin, w1, 0.9, [-0.3094264, -0.2062843, -0.9282792], [1.0; 3], 0.9223651, 1.0),
+        (thin, w2, 0.9, [-0.9299812, 0.1162476, -0.3487429], [1.0; 3], 0.7153852, 1.0),
+        (thin, w3, 0.9, [-0.3094264, -0.2062843, 0.9282792], [1.0; 3], 0.9223651, 1.0),
+    ];
+    for (bsdf, wo, u1, wi, weight, pdf, eta) in cases {
+        let s = bsdf.sample(wo, u1, Vec2::new(0.4, 0.6)).unwrap();
+        assert!(
+            (s.wi - Vec3::from_array(wi)).length() < 1e-5,
+            "{bsdf:?}: {s:?}"
+        );
+        assert!(
+            (s.weight - Vec3::from_array(weight)).abs().max_element() < 1e-5,
+            "{s:?}"
+        );
+        assert!(
+            (s.pdf - pdf).abs() < 1e-5 && (s.eta - eta).abs() < 1e-6,
+            "{s:?}"
+        );
+        assert!(s.lobe.is_delta() && !s.lobe.has_smooth());
+        assert_eq!(bsdf.eval(wo, s.wi), Vec3::ZERO);
+        assert_eq!(bsdf.pdf(wo, s.wi), 0.0);
+    }
+    // One-sided conductor: nothing from below.
+    assert!(conductor.sample(w3, 0.5, Vec2::splat(0.5)).is_none());
+    // Reflection probability is the Fresnel reflectance of the closed form at normal incidence,
+    // ((η - 1) / (η + 1))² = 0.04, and for the thin sheet 2R / (1 + R).
+    let s = glass.sample(Vec3::Z, 0.0, Vec2::ZERO).unwrap();
+    assert!((s.pdf - 0.04).abs() < 1e-6 && s.wi == Vec3::Z);
+    let s = thin.sample(Vec3::Z, 0.0, Vec2::ZERO).unwrap();
+    assert!((s.pdf - 0.08 / 1.04).abs() < 1e-6);
+    // Beyond the critical angle, inside glass reflects always.
+    let tir = dir(0.9, 0.0, -0.3);
+    let s = glass.sample(tir, 0.999, Vec2::ZERO).unwrap();
+    assert_eq!(s.lobe, BsdfFlags::DELTA_REFLECTION);
+    assert_eq!(s.pdf, 1.0);
+}
+
+/// eval and pdf against Mitsuba 3 (scalar_rgb), `si.wi` = `wo` here, Mitsuba's `wo` = `wi`,
+/// both normalized; and its `sample(ctx, si, 0.3, [0.4, 0.6])` for the first `wo`.
+#[test]
+fn spot_values_against_mitsuba() {
+    let refl = [
+        ((0.3, 0.2, 0.9), (-0.4, 0.1, 0.8)),
+        ((0.8, -0.1, 0.3), (-0.7, 0.2, 0.5)),
+        ((0.1, 0.0, 0.95), (0.5, 0.5, 0.6)),
+    ];
+    let trans = [
+        ((0.3, 0.2, 0.9), (-0.2, -0.1, -0.9)),
+        ((0.3, 0.2, -0.9), (-0.4, -0.1, 0.8)),
+        ((0.3, 0.2, -0.9), (-0.3, 0.1, -0.8)),
+    ];
+    let rgb = Vec3::new(0.2, 0.5, 0.8);
+    let micro = |kind, au, av, vis| Microfacet::new(kind, au, av, vis);
+    use MicrofacetKind::{Beckmann, Ggx};
+    let cond = |name, d| {
+        let (eta, k) = spectra::conductor(name).unwrap();
+        Bsdf::RoughConductor(RoughConductor::new(d, eta, k, Vec3::ONE))
+    };
+    let rplastic = |d, eta, nl| {
+        let p = RoughPlasticParams::precompute(d, eta, nl, 0.5, 1.0);
+        Bsdf::RoughPlastic(RoughPlastic::new(&p, rgb, Vec3::ONE))
+    };
+    type Spot = ([f32; 3], f32);
+    type Sample = ([f32; 3], [f32; 3], f32, f32);
+    #[rustfmt::skip]
+    let cases: Vec<(Bsdf, Vec<Spot>, Sample)> = vec![
+        (Bsdf::Diffuse(Diffuse::new(rgb)),
+         vec![([0.05658842, 0.141471, 0.2263537], 0.2829421), ([0.0360415, 0.09010374, 0.144166], 0.1802075),
+              ([0.04118909, 0.1029727, 0.1647563], 0.2059454)],
+         ([-0.14142135, 0.14142142, 0.979_795_9], [0.2, 0.5, 0.8], 0.3118787, 1.0)),
+        (cond("Au", micro(Ggx, 0.3, 0.3, true)),
+         vec![([0.4991991, 0.4141293, 0.1677074], 0.5195172), ([1.101385, 0.9236091, 0.4366514], 1.197681),
+              ([0.08691582, 0.0721039, 0.02920427], 0.09264705)],
+         ([-0.36572537, -0.14864475, 0.9187764], [0.962_616_7, 0.79857385, 0.32340077], 0.9136649, 1.0)),
+        (cond("Cu", micro(Beckmann, 0.1, 0.4, true)),
+         vec![([1.041884, 0.6782836, 0.5589957], 1.094525), ([0.5552997, 0.3695715, 0.3158622], 0.5875902),
+              ([3.216527e-07, 2.094012e-07, 1.725807e-07], 3.379074e-07)],
+         ([-0.26275212, -0.09384485, 0.96028876], [0.95196015, 0.619744, 0.510_635_4], 1.9884096, 1.0)),
+        (cond("Al", micro(Ggx, 0.25, 0.25, false)),
+         vec![([0.5460281, 0.539991, 0.5406497], 0.5841884), ([1.238528, 1.224991, 1.230475], 1.137509),
+              ([0.06879479, 0.06803409, 0.06811716], 0.07273092)],
+         ([-0.57970494, -0.40265325, 0.708_387_3], [0.8363924, 0.82709086, 0.8281644], 0.5834601, 1.0)),
+        (Bsdf::RoughDielectric(RoughDielectric::new(micro(Ggx, 0.3, 0.3, true), 1.5, Vec3::ONE, Vec3::ONE)),
+         vec![([0.02087805; 3], 0.02100209), ([0.1161144; 3], 0.1214114), ([0.003638344; 3], 0.003748696),
+              ([9.833652; 3], 22.1564), ([4.15009; 3], 1.855444), ([0.02322431; 3], 0.02330567)],
+         ([-0.19560003, -0.14846149, -0.96938115], [0.44380465; 3], 25.468298, 1.5)),
+        (Bsdf::RoughDielectric(RoughDielectric::new(micro(Beckmann, 0.2, 0.2, false), 1.33, Vec3::ONE, Vec3::ONE)),
+         vec![([0.01901817; 3], 0.01872585), ([0.1690593; 3], 0.1215203), ([9.341898e-05; 3], 9.026338e-05),
+              ([22.38438; 3], 41.99636), ([0.3360925; 3], 0.1897402), ([0.02187332; 3], 0.02113065)],
+         ([-0.20088197, -0.13201907, -0.970_678_8], [0.532_739_3; 3], 57.973045, 1.33)),
+        (plastic(false, rgb),
+         vec![([0.05740533, 0.1435133, 0.2296213], 0.2609759), ([0.03077346, 0.07693365, 0.1230939], 0.1289178),
+              ([0.04109949, 0.1027487, 0.164398], 0.1901027)],
+         ([-0.14142135, 0.14142142, 0.979_795_9], [0.22018701, 0.550_467_5, 0.88074803], 0.28766605, 1.0)),
+        (plastic(true, rgb),
+         vec![([0.02628231, 0.08247355, 0.1771707], 0.2609759), ([0.01408924, 0.04421186, 0.09497649], 0.1289178),
+              ([0.01881688, 0.05904714, 0.1268458], 0.1901027)],
+         ([-0.14142135, 0.14142142, 0.979_795_9], [0.10080986, 0.31634003, 0.679_565_7], 0.28766605, 1.0)),
+        (rplastic(micro(Ggx, 0.3, 0.3, true), 1.5, false),
+         vec![([0.05953552, 0.1175217, 0.1755079], 0.3056121), ([0.1368052, 0.1678414, 0.1988777], 0.464774),
+              ([0.03102013, 0.07209281, 0.1131655], 0.1957643)],
+         ([-0.14142135, 0.14142142, 0.979_795_9], [0.18958291, 0.38522676, 0.580_870_7], 0.3285371, 1.0)),
+        (rplastic(micro(Beckmann, 0.1, 0.1, true), 1.49, true),
+         vec![([0.03638057, 0.09230741, 0.1839553], 0.2805083), ([0.07432318, 0.1042842, 0.1533817], 0.2997067),
+              ([0.01900874, 0.0590247, 0.1245993], 0.1905832)],
+         ([-0.14142135, 0.14142142, 0.979_795_9], [0.11770155, 0.32342643, 0.660_55], 0.3000034, 1.0)),
+    ];
+    for (bsdf, spots, (s_wi, s_weight, s_pdf, s_eta)) in cases {
+        let pairs = refl.iter().chain(trans.iter());
+        for (&((ax, ay, az), (bx, by, bz)), (value, pdf)) in pairs.zip(spots) {
+            let (wo, wi) = (dir(ax, ay, az), dir(bx, by, bz));
+            let got = bsdf.eval(wo, wi);
+            let value = Vec3::from_array(value);
+            assert!(
+                (got - value).abs().max_element() <= 2e-4 * value.max_element(),
+                "{bsdf:?} {wo} {wi}: eval {got} vs {value}"
+            );
+            let got = bsdf.pdf(wo, wi);
+            assert!(
+                (got - pdf).abs() <= 2e-4 * pdf,
+                "{bsdf:?} {wo} {wi}: pdf {got} vs {pdf}"
+            );
+        }
+        let s = bsdf
+            .sample(dir(0.3, 0.2, 0.9), 0.3, Vec2::new(0.4, 0.6))
+            .unwrap();
+        assert!(
+            (s.wi - Vec3::from_array(s_wi)).length() < 1e-4,
+            "{bsdf:?}: {s:?}"
+        );
+        let w = Vec3::from_array(s_weight);
+        assert!(
+            (s.weight - w).abs().max_element() <= 5e-4 * w.max_element(),
+            "{bsdf:?}: {s:?}"
+        );
+        assert!((s.pdf - s_pdf).abs() <= 5e-4 * s_pdf, "{bsdf:?}: {s:?}");
+        assert!((s.eta - s_eta).abs() < 1e-6, "{bsdf:?}: {s:?}");
+    }
+}
+
+#[test]
+fn flags() {
+    let f = BsdfFlags::GLOSSY_REFLECTION | BsdfFlags::DIFFUSE_REFLECTION;
+    assert!(f.contains(BsdfFlags::GLOSSY_REFLECTION) && !f.contains(BsdfFlags::DELTA_REFLECTION));
+    assert!(f.has_smooth() && !f.is_delta());
+    let g = BsdfFlags::DELTA_REFLECTION | BsdfFlags::DIFFUSE_REFLECTION;
+    assert!(g.is_delta() && g.has_smooth());
+    assert!(!BsdfFlags::NONE.is_delta() && !BsdfFlags::NONE.has_smooth());
+    assert!(!(BsdfFlags::DELTA_TRANSMISSION | BsdfFlags::DELTA_REFLECTION).has_smooth());
+    // The per-hit value stays small.
+    assert!(
+        std::mem::size_of::<Bsdf>() <= 80,
+        "{}",
+        std::mem::size_of::<Bsdf>()
+    );
+}
+
+#[test]
+fn one_sided_bsdfs_are_black_below() {
+    let below = dir(0.2, 0.1, -0.9);
+    let above = dir(0.1, 0.3, 0.9);
+    let mut bsdfs = smooth_bsdfs();
+    bsdfs.extend(rough_conductors());
+    bsdfs.extend(rough_plastics());
+    for bsdf in bsdfs {
+        for (wo, wi) in [(below, above), (above, below), (below, below)] {
+            assert_eq!(bsdf.eval(wo, wi), Vec3::ZERO, "{bsdf:?}");
+            assert_eq!(bsdf.pdf(wo, wi), 0.0, "{bsdf:?}");
+        }
+        assert!(
+            bsdf.sample(below, 0.5, Vec2::splat(0.3)).is_none(),
+            "{bsdf:?}"
+        );
+        assert!(bsdf.eval(above, above).max_element() > 0.0, "{bsdf:?}");
+    }
+}
+
+#[test]
+fn rough_plastic_precompute_is_shared_and_plausible() {
+    let d = Microfacet::new(MicrofacetKind::Ggx, 0.3, 0.3, true);
+    let a = RoughPlasticParams::precompute(d, 1.5, false, 0.5, 1.0);
+    let b = RoughPlasticParams::precompute(d, 1.5, true, 0.2, 1.0);
+    assert!(std::ptr::eq(
+        a.external_transmittance,
+        b.external_transmittance
+    ));
+    // Transmittance at normal incidence is about 1 - 0.04 and falls toward grazing. The internal
+    // reflectance is below the smooth coating's diffuse Fresnel reflectance 0.597 (tilted
+    // microfacets let light out beyond the critical angle); its exact value is Mitsuba's, behind
+    // the spot values of `spot_values_against_mitsuba`.
+    let t = a.external_transmittance;
+    assert!((t[TRANSMITTANCE_RES - 1] - 0.96).abs() < 0.01, "{t:?}");
+    assert!(t[1] < t[TRANSMITTANCE_RES / 2] && t[TRANSMITTANCE_RES / 2] < t[TRANSMITTANCE_RES - 1]);
+    let r = a.internal_reflectance;
+    assert!(r > 0.3 && r < 0.597, "{r}");
+}

@@ -1,0 +1,75 @@
+//! A thin dielectric sheet (a window pane): the two interfaces' inter-reflections summed, light
+//! passing straight through undeviated, Mitsuba's `thindielectric`.
+
+use super::fresnel::{fresnel_dielectric, reflect};
+use super::{BsdfFlags, BsdfSample};
+use crate::math::{Vec2, Vec3};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThinDielectric {
+    /// Interior IOR over exterior IOR.
+    pub eta: f32,
+    pub specular_reflectance: Vec3,
+    pub specular_transmittance: Vec3,
+}
+
+impl ThinDielectric {
+    pub fn new(eta: f32, specular_reflectance: Vec3, specular_transmittance: Vec3) -> Self {
+        ThinDielectric {
+            eta,
+            specular_reflectance,
+            specular_transmittance,
+        }
+    }
+
+    /// Total reflectance of the sheet: with `R` of one interface, the series of bounces inside
+    /// `R + T² R + T² R³ + ... = R + (1 - R)² R / (1 - R²) = 2R / (1 + R)`.
+    #[inline]
+    pub fn reflectance(&self, cos_theta: f32) -> f32 {
+        let r = fresnel_dielectric(cos_theta.abs(), self.eta).0;
+        r * 2.0 / (1.0 + r)
+    }
+
+    #[inline]
+    pub fn eval(&self, _wo: Vec3, _wi: Vec3) -> Vec3 {
+        Vec3::ZERO
+    }
+
+    #[inline]
+    pub fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
+        0.0
+    }
+
+    #[inline]
+    pub fn eval_pdf(&self, _wo: Vec3, _wi: Vec3) -> (Vec3, f32) {
+        (Vec3::ZERO, 0.0)
+    }
+
+    /// Reflection with probability `2R / (1 + R)`, else straight through (`-wo`, eta 1: the two
+    /// refractions cancel, and so does the radiance scaling).
+    #[inline]
+    pub fn sample(&self, wo: Vec3, u1: f32, _u2: Vec2) -> Option<BsdfSample> {
+        let r = self.reflectance(wo.z);
+        Some(if u1 <= r {
+            BsdfSample {
+                wi: reflect(wo),
+                weight: self.specular_reflectance,
+                pdf: r,
+                eta: 1.0,
+                lobe: BsdfFlags::DELTA_REFLECTION,
+            }
+        } else {
+            BsdfSample {
+                wi: -wo,
+                weight: self.specular_transmittance,
+                pdf: 1.0 - r,
+                eta: 1.0,
+                lobe: BsdfFlags::DELTA_TRANSMISSION,
+            }
+        })
+    }
+
+    pub fn flags(&self) -> BsdfFlags {
+        BsdfFlags::DELTA_REFLECTION | BsdfFlags::DELTA_TRANSMISSION
+    }
+}
