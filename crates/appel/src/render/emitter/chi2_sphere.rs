@@ -1,6 +1,9 @@
 //! A chi-square goodness-of-fit test of a direction sampler against its claimed solid-angle
-//! density (after Mitsuba's `chi2` module): directions are binned over a spherical cap in equal
-//! steps of cos θ and φ about an axis, the density is integrated over each bin, bins expecting
+//! density over a spherical cap, for lights that cover a small part of the sphere, where the
+//! shared whole-sphere harness (`render::chi2`) would give them a handful of cells; and with a
+//! fixed fine grid option for densities that jump at thousands of places (an environment map),
+//! where adaptive quadrature would not end. Directions are binned in equal steps of cos θ and φ
+//! about an axis, the density is integrated over each bin, bins expecting
 //! fewer than five samples are pooled, and Pearson's statistic is turned into a p-value.
 
 use glam::{Vec2, Vec3};

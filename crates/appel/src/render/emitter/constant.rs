@@ -43,22 +43,24 @@ impl ConstantEnvironment {
 
 #[cfg(test)]
 mod tests {
-    use super::super::chi2_sphere::{assert_fits, Spec};
     use super::super::Emitter;
     use super::*;
+    use crate::render::chi2::{Chi2Test, Config};
 
     #[test]
     fn uniform_over_the_sphere() {
         let l = Vec3::new(0.5, 1.0, 2.0);
         let mut e = Emitter::Constant(ConstantEnvironment::new(l));
-        assert_fits(
-            "constant",
-            &Spec::sphere(100_000),
-            |u| e.sample_li(Vec3::ZERO, u).map(|s| s.wi),
+        let outcome = Chi2Test::new(Config {
+            samples: 100_000,
+            ..Default::default()
+        })
+        .run(
+            |_, u| e.sample_li(Vec3::ZERO, u).map(|s| s.wi),
             |wi| e.pdf_li(Vec3::ZERO, wi, Vec3::ZERO, Vec3::ZERO),
-            1.0,
-            1e-5,
         );
+        assert!(outcome.passed, "{outcome}");
+        assert!((outcome.pdf_integral - 1.0).abs() < 1e-4, "{outcome}");
         let s = e.sample_li(Vec3::ONE, Vec2::new(0.2, 0.7)).unwrap();
         assert_eq!(s.weight, e.radiance_env(s.wi) / s.pdf);
         assert!(s.dist.is_infinite() && e.is_infinite());

@@ -466,15 +466,12 @@ mod tests {
             radius: 2.0,
         };
         let p = Vec3::new(0.9, -0.5, 0.4);
-        let spec = Spec::sphere(200_000);
-        assert_fits(
-            "sphere inside",
-            &spec,
-            |u| s.sample_direction(p, u).map(|d| d.wi),
-            |wi| hit(&s, p, wi).map_or(0.0, |(x, n)| s.pdf_direction(p, wi, x, n)),
-            1.0,
-            0.01,
+        let outcome = crate::render::chi2::Chi2Test::new(Default::default()).run(
+            |_, u| s.sample_direction(p, u).map(|d| d.wi),
+            |wi| density(&s, p, wi),
         );
+        assert!(outcome.passed, "{outcome}");
+        assert!((outcome.pdf_integral - 1.0).abs() < 1e-3, "{outcome}");
     }
 
     #[test]
