@@ -176,3 +176,159 @@ fn read_exr(bytes: &[u8]) -> std::result::Result<Bitmap, String> {
         data,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: &[f32], b: &[f32], tol: f32) -> bool {
+        a.len() == b.len() && a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol)
+    }
+
+    #[test]
+    fn srgb_decode_by_hand_and_against_mitsuba() {
+        // The linear segment below 0.04045 and the 2.4 power above it (IEC 61966-2-1).
+        assert_eq!(srgb_to_linear(0.0), 0.0);
+        assert!((srgb_to_linear(0.04) - 0.04 / 12.92).abs() < 1e-9);
+        assert!((srgb_to_linear(0.5) - 0.214_041_14).abs() < 1e-7);
+        assert_eq!(srgb_to_linear(1.0), 1.0);
+        let dir = tempfile::tempdir().unwrap();
+        // Mitsuba 3.9 reads these as: grey 2x2 (0, 128 / 255, 64) -> 0, 0.215860531, 1,
+        // 0.0512694; RGBA (200, 100, 50, 128) -> (0.57758075, 0.12743777, 0.031895995) with alpha
+        // left linear and never premultiplied; 16-bit (1000, 30000, 65535) -> (0.0011810388,
+        // 0.177014828, 1).
+        let grey = dir.path().join("grey.png");
+        image::save_buffer(&grey, &[0, 128, 255, 64], 2, 2, image::ColorType::L8).unwrap();
+        let b = read_bitmap(&grey, false).unwrap();
+        assert_eq!((b.width, b.height, b.channels), (2, 2, 1));
+        assert!(
+            close(&b.data, &[0.0, 0.215_860_53, 1.0, 0.051_269_4], 1e-6),
+            "{:?}",
+            b.data
+        );
+        let rgba = dir.path().join("rgba.png");
+        image::save_buffer(
+            &rgba,
+            &[200, 100, 50, 128, 10, 20, 30, 255],
+            2,
+            1,
+            image::ColorType::Rgba8,
+        )
+        .unwrap();
+        let b = read_bitmap(&rgba, false).unwrap();
+        assert_eq!(b.channels, 4);
+        assert!(close(
+            b.pixel(0, 0),
+            &[0.577_580_75, 0.127_437_77, 0.031_895_995, 128.0 / 255.0],
+            1e-6
+        ));
+        let raw = read_bitmap(&rgba, true).unwrap();
+        assert!(close(
+            raw.pixel(1, 0),
+            &[10.0 / 255.0, 20.0 / 255.0, 30.0 / 255.0, 1.0],
+            1e-7
+        ));
+        let rgb16 = dir.path().join("rgb16.png");
+        image::ImageBuffer::<image::Rgb<u16>, _>::from_raw(1, 1, vec![1000u16, 30000, 65535])
+            .unwrap()
+            .save(&rgb16)
+            .unwrap();
+        let b = read_bitmap(&rgb16, false).unwrap();
+        assert!(
+            close(&b.data, &[0.001_181_038_8, 0.177_014_83, 1.0], 1e-6),
+            "{:?}",
+            b.data
+        );
+        let la = dir.path().join("la.png");
+        image::save_buffer(&la, &[255, 51], 1, 1, image::ColorType::La8).unwrap();
+        assert!(close(
+            &read_bitmap(&la, false).unwrap().data,
+            &[1.0, 0.2],
+            1e-7
+        ));
+    }
+
+    #[test]
+    fn float_and_lossy_formats() {
+        let dir = tempfile::tempdir().unwrap();
+        // EXR: linear as stored, RGBA and a lone Y channel.
+        let exr_rgba = dir.path().join("rgba.exr");
+        exr::prelude::write_rgba_file(&exr_rgba, 3, 2, |x, y| {
+            (x as f32, y as f32 * 2.0, 0.25, 0.5)
+        })
+        .unwrap();
+        let b = read_bitmap(&exr_rgba, false).unwrap();
+        assert_eq!((b.width, b.height, b.channels), (3, 2, 4));
+        assert!(close(b.pixel(2, 1), &[2.0, 2.0, 0.25, 0.5], 0.0));
+        let exr_y = dir.path().join("y.exr");
+        {
+            use exr::prelude::*;
+            let samples = FlatSamples::F32(vec![0.5, 1.5, 2.5, 3.5]);
+            let channels =
+                AnyChannels::sort(SmallVec::from_vec(vec![AnyChannel::new("Y", samples)]));
+            let layer = Layer::new(
+                (2, 2),
+                LayerAttributes::default(),
+                Encoding::default(),
+                channels,
+            );
+            Image::from_layer(layer).write().to_file(&exr_y).unwrap();
+        }
+        let b = read_bitmap(&exr_y, false).unwrap();
+        assert_eq!((b.channels, b.data.clone()), (1, vec![0.5, 1.5, 2.5, 3.5]));
+        // Radiance HDR: RGBE keeps 8 bits of mantissa.
+        let hdr = dir.path().join("sky.hdr");
+        let px = [
+            image::Rgb([0.5f32, 2.0, 10.0]),
+            image::Rgb([0.0, 0.125, 1.0]),
+        ];
+        let file = std::fs::File::create(&hdr).unwrap();
+        image::codecs::hdr::HdrEncoder::new(file)
+            .encode(&px, 2, 1)
+            .unwrap();
+        let b = read_bitmap(&hdr, false).unwrap();
+        assert_eq!((b.width, b.height, b.channels), (2, 1, 3));
+        assert!(
+            close(&b.data, &[0.5, 2.0, 10.0, 0.0, 0.125, 1.0], 0.05),
+            "{:?}",
+            b.data
+        );
+        // JPEG: a flat grey 128 decodes near sRGB(128 / 255).
+        let jpg = dir.path().join("grey.jpg");
+        image::save_buffer(&jpg, &[128u8; 64], 8, 8, image::ColorType::L8).unwrap();
+        let b = read_bitmap(&jpg, false).unwrap();
+        assert_eq!(b.channels, 1);
+        assert!(
+            b.data.iter().all(|&v| (v - 0.215_86).abs() < 0.01),
+            "{:?}",
+            &b.data[..4]
+        );
+    }
+
+    #[test]
+    fn malformed_files_are_errors_naming_them() {
+        let dir = tempfile::tempdir().unwrap();
+        let png = dir.path().join("cut.png");
+        image::save_buffer(&png, &[7u8; 300], 10, 10, image::ColorType::Rgb8).unwrap();
+        let bytes = std::fs::read(&png).unwrap();
+        std::fs::write(&png, &bytes[..bytes.len() / 2]).unwrap();
+        let exr = dir.path().join("garbage.exr");
+        let mut junk = vec![0x76, 0x2f, 0x31, 0x01];
+        junk.extend((0..200u32).map(|i| (i * 37 % 251) as u8));
+        std::fs::write(&exr, &junk).unwrap();
+        let txt = dir.path().join("notes.png");
+        std::fs::write(&txt, b"not an image at all").unwrap();
+        for (path, name) in [
+            (&png, "cut.png"),
+            (&exr, "garbage.exr"),
+            (&txt, "notes.png"),
+        ] {
+            let err = read_bitmap(path, false).unwrap_err();
+            assert!(matches!(err, Error::Input { .. }), "{err}");
+            assert!(err.to_string().contains(name), "{err}");
+        }
+        let missing = dir.path().join("missing.exr");
+        let err = read_bitmap(&missing, false).unwrap_err();
+        assert!(matches!(err, Error::Io { .. }) && err.to_string().contains("missing.exr"));
+    }
+}

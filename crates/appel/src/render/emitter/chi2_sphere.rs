@@ -1,6 +1,9 @@
 //! A chi-square goodness-of-fit test of a direction sampler against its claimed solid-angle
-//! density (after Mitsuba's `chi2` module): directions are binned over a spherical cap in equal
-//! steps of cos θ and φ about an axis, the density is integrated over each bin, bins expecting
+//! density over a spherical cap, for lights that cover a small part of the sphere, where the
+//! shared whole-sphere harness (`render::chi2`) would give them a handful of cells; and with a
+//! fixed fine grid option for densities that jump at thousands of places (an environment map),
+//! where adaptive quadrature would not end. Directions are binned in equal steps of cos θ and φ
+//! about an axis, the density is integrated over each bin, bins expecting
 //! fewer than five samples are pooled, and Pearson's statistic is turned into a p-value.
 
 use glam::{Vec2, Vec3};
@@ -16,6 +19,9 @@ pub struct Spec {
     pub n_phi: usize,
     pub samples: usize,
     pub seed: u64,
+    /// Midpoint-rule points per bin side, and how many times a bin may be quadrisected.
+    pub k: usize,
+    pub depth: u32,
 }
 
 impl Spec {
@@ -27,6 +33,8 @@ impl Spec {
             n_phi: 48,
             samples,
             seed: 7,
+            k: 8,
+            depth: 5,
         }
     }
 
@@ -38,6 +46,8 @@ impl Spec {
             n_phi: 32,
             samples,
             seed: 7,
+            k: 8,
+            depth: 5,
         }
     }
 }
@@ -87,6 +97,7 @@ pub fn test(
     };
 
     let mut observed = vec![0.0f64; bins + 1];
+    let mut first = vec![None; bins + 1];
     let mut rng = Rng::new(spec.seed);
     for _ in 0..spec.samples {
         let bin = sample(rng.vec2()).and_then(|d| {
@@ -100,27 +111,67 @@ pub fn test(
             }
             let it = (((1.0 - cos) / dcos) as usize).min(spec.n_theta - 1);
             let ip = ((phi / dphi) as usize).min(spec.n_phi - 1);
-            Some(it * spec.n_phi + ip)
+            Some((it * spec.n_phi + ip, d))
         });
-        observed[bin.unwrap_or(bins)] += 1.0;
+        let (i, d) = bin.map_or((bins, None), |(i, d)| (i, Some(d)));
+        observed[i] += 1.0;
+        first[i] = first[i].or(d);
     }
 
-    // Each bin's probability by the midpoint rule on a k x k grid in (cos θ, φ), where the
-    // solid-angle measure is flat.
-    const K: usize = 12;
+    // Each bin's probability: the midpoint rule on a k x k grid in (cos θ, φ), where the
+    // solid-angle measure is flat, quadrisected where the density jumps inside the bin (the edges
+    // of lights) or where it looks zero but samples fell (a sliver the grid missed).
+    let grid = |r: [f64; 4], k: usize| {
+        let [c0, c1, p0, p1] = r;
+        let (mut sum, mut lo, mut hi) = (0.0, f64::INFINITY, 0.0f64);
+        for a in 0..k {
+            let cos = c0 + (a as f64 + 0.5) / k as f64 * (c1 - c0);
+            for b in 0..k {
+                let phi = p0 + (b as f64 + 0.5) / k as f64 * (p1 - p0);
+                let v = pdf(dir(cos, phi)) as f64;
+                sum += v;
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+        }
+        (sum * (c0 - c1).abs() * (p1 - p0) / (k * k) as f64, lo, hi)
+    };
+    fn refine(
+        grid: &dyn Fn([f64; 4], usize) -> (f64, f64, f64),
+        r: [f64; 4],
+        k: usize,
+        depth: u32,
+        force: bool,
+    ) -> f64 {
+        let (estimate, lo, hi) = grid(r, k);
+        let jumps = hi - lo > 0.01 * hi || (force && hi == 0.0);
+        if depth == 0 || !jumps {
+            return estimate;
+        }
+        let [c0, c1, p0, p1] = r;
+        let (cm, pm) = (0.5 * (c0 + c1), 0.5 * (p0 + p1));
+        [
+            [c0, cm, p0, pm],
+            [c0, cm, pm, p1],
+            [cm, c1, p0, pm],
+            [cm, c1, pm, p1],
+        ]
+        .iter()
+        .map(|q| refine(grid, *q, k, depth - 1, force))
+        .sum()
+    }
     let mut expected = vec![0.0f64; bins + 1];
     let mut integral = 0.0;
     for it in 0..spec.n_theta {
         for ip in 0..spec.n_phi {
-            let mut sum = 0.0;
-            for a in 0..K {
-                let cos = 1.0 - (it as f64 + (a as f64 + 0.5) / K as f64) * dcos;
-                for b in 0..K {
-                    let phi = (ip as f64 + (b as f64 + 0.5) / K as f64) * dphi;
-                    sum += pdf(dir(cos, phi)) as f64;
-                }
-            }
-            let prob = sum * dcos * dphi / (K * K) as f64;
+            let r = [
+                1.0 - it as f64 * dcos,
+                1.0 - (it + 1) as f64 * dcos,
+                ip as f64 * dphi,
+                (ip + 1) as f64 * dphi,
+            ];
+            let force = observed[it * spec.n_phi + ip] > 0.0;
+            let prob = refine(&grid, r, spec.k, spec.depth, force);
             integral += prob;
             expected[it * spec.n_phi + ip] = prob * spec.samples as f64;
         }
@@ -134,9 +185,10 @@ pub fn test(
     for (i, (&o, &e)) in observed.iter().zip(&expected).enumerate() {
         if e == 0.0 && o > 0.0 && i < bins {
             return Err(format!(
-                "{o} samples in bin (θ {}, φ {}) of zero density",
+                "{o} samples in bin (θ {}, φ {}) of zero density, the first along {:?}",
                 i / spec.n_phi,
-                i % spec.n_phi
+                i % spec.n_phi,
+                first[i]
             ));
         }
         if e < 5.0 {
@@ -156,6 +208,21 @@ pub fn test(
         ));
     }
     let dof = dof.saturating_sub(1).max(1);
+    if std::env::var("CHI2_DEBUG").is_ok() {
+        for it in 0..spec.n_theta {
+            let o: f64 = observed[it * spec.n_phi..(it + 1) * spec.n_phi]
+                .iter()
+                .sum();
+            let e: f64 = expected[it * spec.n_phi..(it + 1) * spec.n_phi]
+                .iter()
+                .sum();
+            eprintln!("ring {it}: observed {o} expected {e:.1}");
+        }
+        eprintln!(
+            "outside: {} {:.1}; chi2 {chi2} dof {dof}",
+            observed[bins], expected[bins]
+        );
+    }
     Ok(Outcome {
         p_value: gamma_q(dof as f64 / 2.0, chi2 / 2.0),
         integral,

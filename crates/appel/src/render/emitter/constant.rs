@@ -40,3 +40,31 @@ impl ConstantEnvironment {
         PI * self.scene_radius * self.scene_radius * 4.0 * PI * self.radiance
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::Emitter;
+    use super::*;
+    use crate::render::chi2::{Chi2Test, Config};
+
+    #[test]
+    fn uniform_over_the_sphere() {
+        let l = Vec3::new(0.5, 1.0, 2.0);
+        let mut e = Emitter::Constant(ConstantEnvironment::new(l));
+        let outcome = Chi2Test::new(Config {
+            samples: 100_000,
+            ..Default::default()
+        })
+        .run(
+            |_, u| e.sample_li(Vec3::ZERO, u).map(|s| s.wi),
+            |wi| e.pdf_li(Vec3::ZERO, wi, Vec3::ZERO, Vec3::ZERO),
+        );
+        assert!(outcome.passed, "{outcome}");
+        assert!((outcome.pdf_integral - 1.0).abs() < 1e-4, "{outcome}");
+        let s = e.sample_li(Vec3::ONE, Vec2::new(0.2, 0.7)).unwrap();
+        assert_eq!(s.weight, e.radiance_env(s.wi) / s.pdf);
+        assert!(s.dist.is_infinite() && e.is_infinite());
+        e.set_scene_bounds(Vec3::ZERO, 2.0);
+        assert!((e.power() - PI * 4.0 * 4.0 * PI * 3.5 / 3.0).abs() < 1e-3);
+    }
+}

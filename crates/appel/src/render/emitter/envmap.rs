@@ -141,8 +141,9 @@ impl EnvMap {
 
     /// The bilinear lookup at lat-long `uv`, before `scale`.
     fn lookup(&self, uv: Vec2) -> Vec3 {
-        let mut s = Vec2::new(uv.x - self.half_texel(), uv.y);
-        s -= s.floor();
+        // u wraps around; v is clamped, so that the south pole (v = 1) stays on the last row.
+        let su = uv.x - self.half_texel();
+        let mut s = Vec2::new(su - su.floor(), uv.y.clamp(0.0, 1.0));
         s *= Vec2::new(self.width as f32, (self.height - 1) as f32);
         let ix = (s.x as usize).min(self.width - 1);
         let iy = (s.y as usize).min(self.height - 2);
@@ -167,7 +168,7 @@ impl EnvMap {
             (x, cell)
         };
         let pmf = self.distribution.pmf_cell(ix, iy);
-        if !(pmf > 0.0) {
+        if pmf.is_nan() || pmf <= 0.0 {
             return None;
         }
         let fy = (x.y * (self.height - 1) as f32 - iy as f32).clamp(0.0, 1.0);
@@ -201,5 +202,192 @@ impl EnvMap {
     /// The flux entering the scene's bounding sphere: Φ = π r² ∫ L dω.
     pub fn power(&self) -> Vec3 {
         PI * self.scene_radius * self.scene_radius * self.scale * self.radiance_integral
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::chi2_sphere::{assert_fits, Rng, Spec};
+    use super::super::Emitter;
+    use super::*;
+
+    const MUSEUM: &str = "/work/shared/data/mitsuba-data/common/textures/museum.exr";
+
+    fn close(a: Vec3, b: [f32; 3], rel: f32) -> bool {
+        let b = Vec3::from_array(b);
+        (a - b).abs().max_element() <= rel * b.abs().max_element() + 1e-7
+    }
+
+    #[test]
+    fn lookups_match_mitsuba_on_a_small_map() {
+        // 4x3 pixels (x + 1, 10 (y + 1), 100 + x + 10 y); Mitsuba 3.9's `envmap` eval at the
+        // equator for u = 0.125, 0.375, 0, 0.0625 gave [1, 20, 110], [2, 20, 111],
+        // [2.5, 20, 111.5], [1.75, 20, 110.75], and [2.5, 10, 101.5] at +y, [2.5, 30, 121.5] at -y.
+        let mut data = Vec::new();
+        for y in 0..3 {
+            for x in 0..4 {
+                data.extend([
+                    x as f32 + 1.0,
+                    10.0 * (y + 1) as f32,
+                    100.0 + (x + 10 * y) as f32,
+                ]);
+            }
+        }
+        let bitmap = Bitmap {
+            width: 4,
+            height: 3,
+            channels: 3,
+            data,
+        };
+        let env = EnvMap::new(&bitmap, Mat4::IDENTITY, 1.0).unwrap();
+        let at = |u: f32| {
+            let phi = 2.0 * PI * u;
+            env.radiance(Vec3::new(phi.sin(), 0.0, -phi.cos()))
+        };
+        assert!(close(at(0.125), [1.0, 20.0, 110.0], 1e-5));
+        assert!(close(at(0.375), [2.0, 20.0, 111.0], 1e-5));
+        assert!(close(at(0.0), [2.5, 20.0, 111.5], 1e-5));
+        assert!(close(at(0.0625), [1.75, 20.0, 110.75], 1e-5));
+        assert!(close(env.radiance(Vec3::Y), [2.5, 10.0, 101.5], 1e-5));
+        assert!(close(env.radiance(-Vec3::Y), [2.5, 30.0, 121.5], 1e-5));
+        let tiny = Bitmap {
+            width: 2,
+            height: 2,
+            channels: 3,
+            data: vec![1.0; 12],
+        };
+        assert!(EnvMap::new(&tiny, Mat4::IDENTITY, 1.0)
+            .unwrap_err()
+            .contains("2x3"));
+    }
+
+    #[test]
+    fn museum_radiance_matches_mitsuba() {
+        let dirs = [
+            Vec3::new(0.3, 0.5, -0.8),
+            Vec3::new(-0.7, 0.1, 0.2),
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(0.2, 0.9, 0.1),
+            Vec3::new(0.999, 0.01, -0.02),
+        ];
+        // Mitsuba 3.9 `envmap` eval of museum.exr along these directions (si.wi = -d): as is,
+        // then with to_world = rotate(y, 30 degrees) and scale = 2.5.
+        let plain = [
+            [0.354_965_18, 0.306_833_83, 0.268_860_94],
+            [2.262_018, 1.984_022_1, 1.557_657],
+            [0.000_315_904_62, 0.000_203_132_63, 0.000_136_613_85],
+            [0.256_564_2, 0.133_662_06, 0.061_893_925],
+            [0.178_016_28, 0.070_251_84, 0.031_670_176],
+        ];
+        let turned = [
+            [1.114_032_5, 0.668_869_3, 0.445_902_88],
+            [6.964_009, 7.032_747_3, 4.485_23],
+            [0.000_789_761_54, 0.000_507_831_6, 0.000_341_534_62],
+            [0.624_089_36, 0.322_698_5, 0.144_843_79],
+            [0.751_779_1, 0.355_441_45, 0.202_502_83],
+        ];
+        let a = EnvMap::load(Path::new(MUSEUM), Mat4::IDENTITY, 1.0).unwrap();
+        let b = EnvMap::load(
+            Path::new(MUSEUM),
+            Mat4::from_rotation_y(30f32.to_radians()),
+            2.5,
+        )
+        .unwrap();
+        for (d, (p, t)) in dirs.iter().zip(plain.iter().zip(&turned)) {
+            let d = d.normalize();
+            assert!(
+                close(a.radiance(d), *p, 1e-4),
+                "{d}: {} vs {p:?}",
+                a.radiance(d)
+            );
+            assert!(
+                close(b.radiance(d), *t, 1e-4),
+                "{d}: {} vs {t:?}",
+                b.radiance(d)
+            );
+        }
+    }
+
+    #[test]
+    fn museum_sampling_fits_its_density() {
+        let env = EnvMap::load(Path::new(MUSEUM), Mat4::from_rotation_x(0.3), 1.0).unwrap();
+        let e = Emitter::EnvMap(env.clone());
+        assert_fits(
+            "envmap",
+            // The density jumps at every one of the 130,560 patches: a fine fixed grid (about 8
+            // points per patch side) rather than refinement.
+            &Spec {
+                k: 96,
+                depth: 0,
+                ..Spec::sphere(300_000)
+            },
+            |u| e.sample_li(Vec3::ZERO, u).map(|s| s.wi),
+            |wi| e.pdf_li(Vec3::ZERO, wi, Vec3::ZERO, Vec3::ZERO),
+            1.0,
+            0.01,
+        );
+        // Weights are radiance over density, both as seen from outside.
+        let mut rng = Rng::new(9);
+        for _ in 0..1000 {
+            let s = e.sample_li(Vec3::ZERO, rng.vec2()).unwrap();
+            let pdf = e.pdf_li(Vec3::ZERO, s.wi, Vec3::ZERO, Vec3::ZERO);
+            assert!((pdf / s.pdf - 1.0).abs() < 1e-3, "{pdf} vs {}", s.pdf);
+            let w = e.radiance_env(s.wi) / pdf;
+            assert!((w - s.weight).abs().max_element() <= 2e-3 * w.max_element() + 1e-6);
+        }
+        // The density integrates to one: one direction per patch (its centre) times its solid
+        // angle, which holds exactly for a density constant over each patch.
+        let (w, h) = (env.width, env.height);
+        let mut integral = 0.0f64;
+        for j in 0..h - 1 {
+            let cos = 0.5 * (env.row_cos[j] + env.row_cos[j + 1]);
+            let sin = (1.0 - cos * cos).sqrt();
+            for i in 0..w {
+                let phi = 2.0 * PI * ((i as f32 + 0.5) / w as f32 + env.half_texel());
+                let local = Vec3::new(phi.sin() * sin, cos, -phi.cos() * sin);
+                integral +=
+                    (env.pdf_li(env.to_world * local) / env.inv_patch_solid_angle[j]) as f64;
+            }
+        }
+        assert!((integral - 1.0).abs() < 1e-3, "{integral}");
+    }
+
+    #[test]
+    fn a_uniform_map_has_the_constant_power() {
+        let bitmap = Bitmap {
+            width: 8,
+            height: 5,
+            channels: 1,
+            data: vec![2.0; 40],
+        };
+        let mut e = Emitter::EnvMap(EnvMap::new(&bitmap, Mat4::IDENTITY, 1.5).unwrap());
+        let mut c = Emitter::Constant(super::super::ConstantEnvironment::new(Vec3::splat(3.0)));
+        e.set_scene_bounds(Vec3::ONE, 2.0);
+        c.set_scene_bounds(Vec3::ONE, 2.0);
+        assert!(
+            (e.power() / c.power() - 1.0).abs() < 1e-5,
+            "{} vs {}",
+            e.power(),
+            c.power()
+        );
+        // A uniform map is sampled uniformly: density 1 / 4π everywhere.
+        let pdf = e.pdf_li(
+            Vec3::ZERO,
+            Vec3::new(0.3, -0.4, 0.5).normalize(),
+            Vec3::ZERO,
+            Vec3::ZERO,
+        );
+        assert!((pdf * 4.0 * PI - 1.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn a_bad_file_is_an_error_naming_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sky.exr");
+        std::fs::write(&path, b"v/1\x01garbage that is no EXR header").unwrap();
+        let err = EnvMap::load(&path, Mat4::IDENTITY, 1.0)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("sky.exr"), "{err}");
     }
 }

@@ -15,7 +15,7 @@ impl PointLight {
     pub fn sample_li(&self, p: Vec3) -> Option<EmitterSample> {
         let to = self.position - p;
         let dist2 = to.length_squared();
-        if !(dist2 > 0.0) {
+        if dist2.is_nan() || dist2 <= 0.0 {
             return None;
         }
         let dist = dist2.sqrt();

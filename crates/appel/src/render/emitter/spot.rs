@@ -90,7 +90,7 @@ impl SpotLight {
     pub fn sample_li(&self, p: Vec3) -> Option<EmitterSample> {
         let to = self.position - p;
         let dist2 = to.length_squared();
-        if !(dist2 > 0.0) {
+        if dist2.is_nan() || dist2 <= 0.0 {
             return None;
         }
         let dist = dist2.sqrt();
@@ -121,5 +121,82 @@ impl SpotLight {
         };
         let tex = self.texture.as_ref().map_or(Vec3::ONE, Texture::mean);
         self.intensity * tex * solid_angle
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Mitsuba's `look_at` frame: z toward the target, x = normalize(up × z), y = z × x.
+    fn look_at(origin: Vec3, target: Vec3, up: Vec3) -> Mat4 {
+        let z = (target - origin).normalize();
+        let x = up.cross(z).normalize();
+        let y = z.cross(x);
+        Mat4::from_cols(
+            x.extend(0.0),
+            y.extend(0.0),
+            z.extend(0.0),
+            origin.extend(1.0),
+        )
+    }
+
+    #[test]
+    fn falloff_matches_mitsuba() {
+        let t = look_at(Vec3::new(1.0, 2.0, 3.0), Vec3::new(1.0, 0.0, 3.2), Vec3::Z);
+        let spot = SpotLight::new(t, Vec3::new(10.0, 20.0, 30.0), 25.0, 10.0, None);
+        // Mitsuba 3.9 `spot` (cutoff 25, beam 10, same look_at): sample_direction's weights.
+        let cases = [
+            (
+                Vec3::new(1.0, 0.0, 3.2),
+                Some([2.475_247_1, 4.950_494_3, 7.425_741_7]),
+            ),
+            (
+                Vec3::new(1.3, 0.0, 3.0),
+                Some([2.403_599, 4.807_198, 7.210_797]),
+            ),
+            (
+                Vec3::new(0.4, -1.0, 3.5),
+                Some([0.918_066_14, 1.836_132_3, 2.754_198_3]),
+            ),
+            (
+                Vec3::new(1.0, 0.0, 4.0),
+                Some([0.552_739_44, 1.105_478_9, 1.658_218_3]),
+            ),
+            (Vec3::new(2.0, 0.0, 3.0), None),
+        ];
+        for (p, want) in cases {
+            let got = spot.sample_li(p).map(|s| s.weight);
+            match (got, want) {
+                (Some(g), Some(w)) => {
+                    let w = Vec3::from_array(w);
+                    assert!(
+                        (g - w).abs().max_element() < 1e-5 * w.max_element(),
+                        "{p}: {g} vs {w}"
+                    );
+                }
+                (None, None) => {}
+                other => panic!("{p}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn power_is_the_integrated_falloff() {
+        let spot = SpotLight::with_defaults(Mat4::IDENTITY, Vec3::ONE);
+        // Midpoint rule over θ of 2π falloff(θ) sin θ.
+        let n = 20_000;
+        let mut sum = 0.0f64;
+        for k in 0..n {
+            let theta = (k as f64 + 0.5) / n as f64 * 0.5 * std::f64::consts::PI;
+            let local = Vec3::new(theta.sin() as f32, 0.0, theta.cos() as f32);
+            sum += spot.falloff(local) as f64 * theta.sin();
+        }
+        let numeric = 2.0 * std::f64::consts::PI * sum * 0.5 * std::f64::consts::PI / n as f64;
+        assert!(
+            (spot.power().x as f64 / numeric - 1.0).abs() < 1e-3,
+            "{} vs {numeric}",
+            spot.power().x
+        );
     }
 }

@@ -153,3 +153,195 @@ impl BitmapTexture {
         self.mean
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::bitmap_read::read_bitmap;
+    use std::path::Path;
+
+    /// The 3x2 sRGB test image: rows (10,20,30) (200,100,50) (255,0,128) and (0,255,64)
+    /// (90,90,90) (30,180,240), written as an 8-bit RGB PNG.
+    fn write_rgb_png(path: &Path) {
+        let px: [u8; 18] = [
+            10, 20, 30, 200, 100, 50, 255, 0, 128, 0, 255, 64, 90, 90, 90, 30, 180, 240,
+        ];
+        image::save_buffer(path, &px, 3, 2, image::ColorType::Rgb8).unwrap();
+    }
+
+    fn texture(path: &Path, raw: bool, filter: Filter, wrap: Wrap, to_uv: Mat3) -> BitmapTexture {
+        BitmapTexture::new(
+            Arc::new(read_bitmap(path, raw).unwrap()),
+            filter,
+            wrap,
+            to_uv,
+        )
+    }
+
+    fn assert_close(got: Vec3, want: [f32; 3], what: &str) {
+        let w = Vec3::from_array(want);
+        assert!((got - w).abs().max_element() < 2e-6, "{what}: {got} vs {w}");
+    }
+
+    const UVS: [(f32, f32); 5] = [
+        (0.1, 0.2),
+        (0.5, 0.5),
+        (0.95, 0.9),
+        (-0.3, 1.4),
+        (1.7, -0.2),
+    ];
+
+    #[test]
+    fn filters_and_wrap_modes_match_mitsuba() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("rgb.png");
+        write_rgb_png(&path);
+        // Mitsuba 3.9 `bitmap` (format "variant", so stored in f32) at UVS, for each filter and
+        // wrap mode.
+        let expect: [(Filter, Wrap, [[f32; 3]; 5]); 6] = [
+            (
+                Filter::Bilinear,
+                Wrap::Repeat,
+                [
+                    [0.182_445_03, 0.094_164_94, 0.069_731_57],
+                    [0.339_911_28, 0.114_839_79, 0.067_068_905],
+                    [0.201_226, 0.453_401_6, 0.452_489_05],
+                    [0.596_328_6, 0.130_105_6, 0.268_707_28],
+                    [0.126_921_13, 0.288_366_7, 0.521_572_9],
+                ],
+            ),
+            (
+                Filter::Bilinear,
+                Wrap::Mirror,
+                [
+                    [0.003_035_27, 0.006_995_4, 0.012_983_06],
+                    [0.339_911_28, 0.114_839_79, 0.067_068_905],
+                    [0.012_983_059, 0.456_411_18, 0.871_366_9],
+                    [0.098_483_76, 0.465_179_38, 0.056_325_346],
+                    [0.232_853_25, 0.055_172_306, 0.020_548_226],
+                ],
+            ),
+            (
+                Filter::Bilinear,
+                Wrap::Clamp,
+                [
+                    [0.003_035_27, 0.006_995_4, 0.012_983_06],
+                    [0.339_911_28, 0.114_839_79, 0.067_068_905],
+                    [0.012_983_059, 0.456_411_18, 0.871_366_9],
+                    [0.0, 1.0, 0.051_269_43],
+                    [1.0, 0.0, 0.215_860_44],
+                ],
+            ),
+            (
+                Filter::Nearest,
+                Wrap::Repeat,
+                [
+                    [0.003_035_27, 0.006_995_4, 0.012_983_06],
+                    [0.102_241_81, 0.102_241_81, 0.102_241_81],
+                    [0.012_983_06, 0.456_411_18, 0.871_366_9],
+                    [1.0, 0.0, 0.215_860_43],
+                    [0.012_983_06, 0.456_411_18, 0.871_366_9],
+                ],
+            ),
+            (
+                Filter::Nearest,
+                Wrap::Mirror,
+                [
+                    [0.003_035_27, 0.006_995_4, 0.012_983_06],
+                    [0.102_241_81, 0.102_241_81, 0.102_241_81],
+                    [0.012_983_06, 0.456_411_18, 0.871_366_9],
+                    [0.0, 1.0, 0.051_269_434],
+                    [0.003_035_27, 0.006_995_4, 0.012_983_06],
+                ],
+            ),
+            (
+                Filter::Nearest,
+                Wrap::Clamp,
+                [
+                    [0.003_035_27, 0.006_995_4, 0.012_983_06],
+                    [0.102_241_81, 0.102_241_81, 0.102_241_81],
+                    [0.012_983_06, 0.456_411_18, 0.871_366_9],
+                    [0.0, 1.0, 0.051_269_434],
+                    [1.0, 0.0, 0.215_860_43],
+                ],
+            ),
+        ];
+        for (filter, wrap, values) in expect {
+            let t = texture(&path, false, filter, wrap, Mat3::IDENTITY);
+            for ((u, v), want) in UVS.iter().zip(values) {
+                assert_close(
+                    t.eval(Vec2::new(*u, *v)),
+                    want,
+                    &format!("{filter:?} {wrap:?} ({u}, {v})"),
+                );
+            }
+        }
+        // raw: no sRGB decode.
+        let raw = texture(&path, true, Filter::Bilinear, Wrap::Repeat, Mat3::IDENTITY);
+        assert_close(
+            raw.eval(Vec2::new(0.1, 0.2)),
+            [0.210_588_2, 0.150_588_26, 0.213_960_8],
+            "raw",
+        );
+        assert_close(
+            raw.eval(Vec2::new(0.5, 0.5)),
+            [0.568_627_5, 0.372_549_06, 0.274_509_82],
+            "raw",
+        );
+        // to_uv = translate(0.25, -0.1) * scale(2, 0.5), as Mitsuba's 4x4 to_uv applies it.
+        let m =
+            Mat3::from_translation(Vec2::new(0.25, -0.1)) * Mat3::from_scale(Vec2::new(2.0, 0.5));
+        let t = texture(&path, false, Filter::Bilinear, Wrap::Repeat, m);
+        let want = [
+            [0.289_152_24, 0.173_138_5, 0.061_827_507],
+            [0.122_449_405, 0.184_796_89, 0.026_971_54],
+            [0.042_436_406, 0.199_880_63, 0.036_956_31],
+        ];
+        for ((u, v), w) in UVS.iter().zip(want) {
+            assert_close(t.eval(Vec2::new(*u, *v)), w, "to_uv");
+        }
+        // Mitsuba's mean is the luminance of the pixels' mean (0.277377576, from f16 storage).
+        let mean = texture(&path, false, Filter::Bilinear, Wrap::Repeat, Mat3::IDENTITY).mean();
+        assert!((crate::render::texture::luminance(mean) - 0.277_377_58).abs() < 2e-4);
+    }
+
+    #[test]
+    fn bilinear_weights_by_hand() {
+        // A 2x2 grey image of values 0, 1 / 2, 3: at uv (0.5, 0.5) all four pixel centres are half
+        // a pixel away, so the mean 1.5; at a pixel centre, that pixel.
+        let bitmap = Bitmap {
+            width: 2,
+            height: 2,
+            channels: 1,
+            data: vec![0.0, 1.0, 2.0, 3.0],
+        };
+        let t = BitmapTexture::new(
+            Arc::new(bitmap),
+            Filter::Bilinear,
+            Wrap::Clamp,
+            Mat3::IDENTITY,
+        );
+        assert_eq!(t.eval_1(Vec2::new(0.5, 0.5)), 1.5);
+        assert_eq!(t.eval_1(Vec2::new(0.75, 0.25)), 1.0);
+        // A quarter of the way from the centre of (0, 1) to that of (1, 1): 2 + 0.25.
+        assert_eq!(t.eval_1(Vec2::new(0.375, 0.75)), 2.25);
+        assert_eq!(t.eval(Vec2::new(0.25, 0.75)), Vec3::splat(2.0));
+        assert_eq!(t.mean(), Vec3::splat(1.5));
+        // Mirror: pixel indices -1 and 2 reflect onto 0 and 1; repeat wraps them across.
+        let m = BitmapTexture {
+            wrap: Wrap::Mirror,
+            filter: Filter::Nearest,
+            ..t.clone()
+        };
+        assert_eq!(m.eval_1(Vec2::new(-0.25, 0.25)), 0.0);
+        assert_eq!(m.eval_1(Vec2::new(1.25, 0.25)), 1.0);
+        assert_eq!(m.eval_1(Vec2::new(-0.75, 0.25)), 1.0);
+        let r = BitmapTexture {
+            wrap: Wrap::Repeat,
+            filter: Filter::Nearest,
+            ..t
+        };
+        assert_eq!(r.eval_1(Vec2::new(-0.25, 0.25)), 1.0);
+        assert_eq!(r.eval_1(Vec2::new(1.25, -0.25)), 2.0);
+    }
+}
