@@ -1,19 +1,12 @@
 //! Rendering: camera rays over image tiles in parallel, an integrator per ray, results on a film.
 
-pub mod bsdf;
-#[cfg(test)]
-pub(crate) mod chi2;
-pub mod emitter;
 mod film;
 pub mod film_block;
 pub mod filter;
-pub mod frame;
 pub mod integrator;
 pub mod optics;
 pub mod progressive;
 pub mod sampler;
-pub mod spectra;
-pub mod texture;
 
 pub use film::{Film, PixelAov, MISS_ID};
 pub use integrator::{surface_hit, Integrator, Raycast, SurfaceHit, Whitted};

@@ -5,7 +5,7 @@ use super::description::{Description, LightDesc};
 use super::geometry::{Geometry, ShapeKind};
 use super::textures::TextureCache;
 use crate::error::{Error, Location, Result};
-use crate::render::emitter::{
+use crate::shading::emitter::{
     AreaEmitter, ConstantEnvironment, DirectionalLight, Emitter, EnvMap, LightPicker, PointLight,
     ShapeSampler, SpotLight,
 };

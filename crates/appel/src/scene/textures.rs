@@ -3,7 +3,7 @@
 use super::description::{TextureDesc, TextureFilter, TextureNode, TextureWrap};
 use crate::error::Result;
 use crate::io::bitmap_read::{read_bitmap, Bitmap};
-use crate::render::texture::{BitmapTexture, Checkerboard, Filter, Texture, Wrap};
+use crate::shading::texture::{BitmapTexture, Checkerboard, Filter, Texture, Wrap};
 use glam::{Mat3, Vec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

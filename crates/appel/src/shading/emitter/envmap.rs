@@ -16,7 +16,7 @@ use super::distribution::Distribution2D;
 use super::EmitterSample;
 use crate::error::{Error, Location, Result};
 use crate::io::bitmap_read::{read_bitmap, Bitmap};
-use crate::render::texture::luminance;
+use crate::shading::texture::luminance;
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::f32::consts::PI;
 use std::path::Path;

@@ -41,7 +41,7 @@ pub fn square_to_cosine_hemisphere_pdf(w: Vec3) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::chi2::{Chi2Test, Config};
+    use crate::shading::chi2::{Chi2Test, Config};
 
     #[test]
     fn concentric_disk_corners_and_mitsuba() {

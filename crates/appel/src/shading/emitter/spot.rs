@@ -3,7 +3,7 @@
 //! through the cone.
 
 use super::EmitterSample;
-use crate::render::texture::Texture;
+use crate::shading::texture::Texture;
 use glam::{Mat4, Vec2, Vec3};
 use std::f32::consts::PI;
 

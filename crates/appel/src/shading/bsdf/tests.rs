@@ -2,8 +2,8 @@
 //! reciprocity, no energy gain) and spot values against Mitsuba 3.
 
 use super::*;
-use crate::render::chi2::{Chi2Test, Config, Pcg32};
-use crate::render::spectra;
+use crate::shading::chi2::{Chi2Test, Config, Pcg32};
+use crate::shading::spectra;
 
 const KINDS: [MicrofacetKind; 2] = [MicrofacetKind::Beckmann, MicrofacetKind::Ggx];
 

@@ -466,7 +466,7 @@ mod tests {
             radius: 2.0,
         };
         let p = Vec3::new(0.9, -0.5, 0.4);
-        let outcome = crate::render::chi2::Chi2Test::new(Default::default()).run(
+        let outcome = crate::shading::chi2::Chi2Test::new(Default::default()).run(
             |_, u| s.sample_direction(p, u).map(|d| d.wi),
             |wi| density(&s, p, wi),
         );

@@ -302,7 +302,7 @@ mod tests {
         }
         // Mitsuba's mean is the luminance of the pixels' mean (0.277377576, from f16 storage).
         let mean = texture(&path, false, Filter::Bilinear, Wrap::Repeat, Mat3::IDENTITY).mean();
-        assert!((crate::render::texture::luminance(mean) - 0.277_377_58).abs() < 2e-4);
+        assert!((crate::shading::texture::luminance(mean) - 0.277_377_58).abs() < 2e-4);
     }
 
     #[test]

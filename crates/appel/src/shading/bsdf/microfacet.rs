@@ -343,7 +343,7 @@ pub fn erfinv(x: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::chi2::{Chi2Test, Config, Pcg32};
+    use crate::shading::chi2::{Chi2Test, Config, Pcg32};
 
     #[test]
     fn erf_and_inverse() {

@@ -3,7 +3,7 @@
 
 use super::shape_sampler::ShapeSampler;
 use super::EmitterSample;
-use crate::render::texture::Texture;
+use crate::shading::texture::Texture;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -127,7 +127,7 @@ mod tests {
 
     #[test]
     fn weights_are_radiance_over_pdf_and_one_sided() {
-        let tex = Texture::Checkerboard(crate::render::texture::Checkerboard {
+        let tex = Texture::Checkerboard(crate::shading::texture::Checkerboard {
             color0: Vec3::new(1.0, 0.5, 0.25),
             color1: Vec3::new(0.1, 0.2, 0.3),
             to_uv: glam::Mat3::from_scale(Vec2::splat(4.0)),

@@ -1,6 +1,6 @@
 //! A chi-square goodness-of-fit test of a direction sampler against its claimed solid-angle
 //! density over a spherical cap, for lights that cover a small part of the sphere, where the
-//! shared whole-sphere harness (`render::chi2`) would give them a handful of cells; and with a
+//! shared whole-sphere harness (`shading::chi2`) would give them a handful of cells; and with a
 //! fixed fine grid option for densities that jump at thousands of places (an environment map),
 //! where adaptive quadrature would not end. Directions are binned in equal steps of cos θ and φ
 //! about an axis, the density is integrated over each bin, bins expecting

@@ -45,7 +45,7 @@ impl ConstantEnvironment {
 mod tests {
     use super::super::Emitter;
     use super::*;
-    use crate::render::chi2::{Chi2Test, Config};
+    use crate::shading::chi2::{Chi2Test, Config};
 
     #[test]
     fn uniform_over_the_sphere() {

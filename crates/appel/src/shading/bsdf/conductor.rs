@@ -7,7 +7,7 @@ use crate::math::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Conductor {
-    /// Real part of the relative IOR, per channel (see [`crate::render::spectra::conductor`]).
+    /// Real part of the relative IOR, per channel (see [`crate::shading::spectra::conductor`]).
     pub eta: Vec3,
     /// Imaginary part (absorption coefficient).
     pub k: Vec3,

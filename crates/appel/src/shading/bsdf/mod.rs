@@ -3,7 +3,7 @@
 //! `roughdielectric`, `plastic`, `roughplastic`.
 //!
 //! Directions are in the local shading frame (`z` = shading normal, see
-//! [`crate::render::frame::ShadingFrame`]), unit length, both pointing away from the surface: `wo`
+//! [`crate::shading::frame::ShadingFrame`]), unit length, both pointing away from the surface: `wo`
 //! toward the viewer or previous path vertex, `wi` toward the light or next vertex (pbrt's names;
 //! Mitsuba's `si.wi` is `wo` here and its `wo` is `wi`). One-sided BSDFs are black unless both
 //! directions are above the surface (`twosided` is the material layer's flip of `z`); dielectrics
