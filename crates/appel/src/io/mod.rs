@@ -4,6 +4,7 @@ mod atomic;
 pub mod gltf;
 pub mod image;
 pub mod mesh_file;
+pub mod mitsuba;
 pub mod obj;
 pub mod placements;
 pub mod ply;
