@@ -106,6 +106,6 @@ pub fn run(args: ConvertArgs) -> Result<()> {
     if meshes.is_empty() {
         bail!("{}: the scene has no triangles to convert", args.input);
     }
-    appel::io::write_ply(&args.output, &meshes)?;
+    appel::output::write_ply(&args.output, &meshes)?;
     Ok(())
 }

@@ -1,6 +1,6 @@
 use crate::scene_args::{load_scene_with, ViewArgs};
 use anyhow::{anyhow, bail, Context, Result};
-use appel::io::image::{write_image, Aovs, ImageFormat};
+use appel::output::image::{write_image, Aovs, ImageFormat};
 use appel::render::{render, RenderOptions};
 use appel::scene::{Description, LoadStep, SceneOptions};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -32,15 +32,15 @@ pub struct RenderArgs {
     /// Override render.accel.
     #[arg(long)]
     accel: Option<String>,
-    /// Override render.integrator (raycast or whitted).
+    /// Override render.integrator (raycast, whitted, path or direct).
     #[arg(long)]
     integrator: Option<String>,
     /// Override render.spp.
     #[arg(long)]
     spp: Option<u32>,
-    /// Override render.max_depth.
-    #[arg(long)]
-    max_depth: Option<u32>,
+    /// Override render.max_depth (path and direct: -1 is unlimited).
+    #[arg(long, allow_hyphen_values = true)]
+    max_depth: Option<i32>,
     #[command(flatten)]
     view: ViewArgs,
 }
@@ -227,7 +227,12 @@ fn apply_settings(d: &mut Description, a: &RenderArgs) -> Result<()> {
         d.render.accel = x.clone();
     }
     if let Some(x) = &a.integrator {
-        d.render.integrator = x.clone();
+        d.render.integrator = appel::scene::IntegratorKind::from_name(x).ok_or_else(|| {
+            anyhow!(
+                "--integrator: unknown integrator `{x}`, expected one of: {}",
+                appel::scene::IntegratorKind::NAMES.join(", ")
+            )
+        })?;
     }
     if let Some(x) = a.spp {
         d.render.spp = x;

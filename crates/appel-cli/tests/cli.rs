@@ -117,16 +117,16 @@ fn fov_outside_the_open_interval_is_rejected() {
 fn unknown_accel_and_integrator_are_rejected_with_the_choices() {
     assert_rejected(
         "a.toml",
-        &format!("{CAMERA}[render]\naccel = \"octree\"\n"),
-        &["a.toml:5:9", "unknown accel `octree`", "brute"],
+        &format!("{CAMERA}[render]\naccel = \"rtree\"\n"),
+        &["a.toml:5:9", "unknown accel `rtree`", "brute"],
     );
     assert_rejected(
         "i.toml",
-        &format!("{CAMERA}[render]\nintegrator = \"path\"\n"),
+        &format!("{CAMERA}[render]\nintegrator = \"photon\"\n"),
         &[
             "i.toml:5:14",
-            "unknown integrator `path`",
-            "raycast, whitted",
+            "unknown variant `photon`",
+            "`raycast`, `whitted`, `path`, `direct`",
         ],
     );
 }

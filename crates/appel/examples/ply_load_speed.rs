@@ -5,8 +5,9 @@
 //! (default `/tmp/appel-grid-10m.ply`, 10 000 000 triangles).
 
 use appel::geometry::TriangleMesh;
-use appel::io::{load_mesh, write_ply};
+use appel::io::load_mesh;
 use appel::math::Vec3;
+use appel::output::write_ply;
 use std::path::PathBuf;
 use std::time::Instant;
 

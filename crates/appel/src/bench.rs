@@ -69,6 +69,7 @@ pub fn bench_scene(name: &str, triangles: usize, width: u32, height: u32) -> Opt
         fov: 45.0,
         width,
         height,
+        ..CameraDesc::default()
     });
     Some(BenchTarget {
         name: name.to_string(),

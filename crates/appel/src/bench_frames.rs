@@ -73,7 +73,7 @@ pub fn bench_frames(
         width: scene.camera.width,
         height: scene.camera.height,
         spp: scene.settings.spp,
-        max_depth: scene.settings.max_depth,
+        max_depth: scene.settings.max_depth.max(0) as u32,
         threads: pool.current_num_threads(),
         frames,
         frame_ms_median: median,

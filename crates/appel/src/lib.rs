@@ -1,7 +1,7 @@
 //! Appel: a fast, correct CPU ray tracer.
 //!
 //! The crate is layered so that data flows one way (see `docs/architecture.md`):
-//! `math` -> `geometry` -> `accel` -> `scene` -> `render` -> `io`.
+//! input readers (`io`) -> `math` -> `geometry` -> `accel` -> `scene` -> `render` -> `output`.
 //! Nothing in a lower layer names anything of a higher one, and nothing here knows about the command line.
 
 pub mod accel;
@@ -12,6 +12,7 @@ pub mod gen;
 pub mod geometry;
 pub mod io;
 pub mod math;
+pub mod output;
 pub mod query;
 pub mod render;
 pub mod scene;

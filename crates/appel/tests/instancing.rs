@@ -26,7 +26,7 @@ fn lopsided() -> TriangleMesh {
 
 fn write_mesh(dir: &Path) {
     let m = lopsided();
-    appel::io::write_ply(&dir.join("m.ply"), &[(0, &m)]).unwrap();
+    appel::output::write_ply(&dir.join("m.ply"), &[(0, &m)]).unwrap();
 }
 
 const HEADER: &str = r#"
@@ -179,7 +179,7 @@ fn hits_agree_with_a_flattened_copy_on_random_rays() {
         }
         append(&mut flat, &copy);
     }
-    appel::io::write_ply(&dir.path().join("flat.ply"), &[(0, &flat)]).unwrap();
+    appel::output::write_ply(&dir.path().join("flat.ply"), &[(0, &flat)]).unwrap();
     let flat_scene = Scene::new(
         &parse(&format!(
             "{base}[[shape]]\ntype = \"mesh\"\nfile = \"flat.ply\"\n"
@@ -341,7 +341,7 @@ fn many_instances_share_one_copy_of_the_mesh() {
     // A million placements of a 5,120-triangle mesh: five billion triangles as rendered (60 GB as
     // a flat mesh, more than this machine has), one copy stored.
     let dir = tempfile::tempdir().unwrap();
-    appel::io::write_ply(&dir.path().join("s.ply"), &[(0, &icosphere(4))]).unwrap();
+    appel::output::write_ply(&dir.path().join("s.ply"), &[(0, &icosphere(4))]).unwrap();
     let mut list = String::new();
     for i in 0..1_000_000u32 {
         let (x, z) = ((i % 1000) as f32, (i / 1000) as f32);

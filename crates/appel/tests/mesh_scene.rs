@@ -1,7 +1,7 @@
 //! `type = "mesh"` shapes in scene files, and framing a bare model.
 
-use appel::io::write_ply;
 use appel::math::Vec3;
+use appel::output::write_ply;
 use appel::render::{render, RenderOptions, MISS_ID};
 use appel::scene::{frame_model, load_description, model_description, Scene};
 use std::path::{Path, PathBuf};
@@ -128,7 +128,7 @@ fn framed_bunny_is_in_view() {
     let mut d = model_description("stanford-bunny.obj.gz");
     d.camera.width = 64;
     d.camera.height = 48;
-    d.render.integrator = "raycast".into();
+    d.render.integrator = appel::scene::IntegratorKind::Raycast;
     let mut scene = Scene::new(&d, p.parent().unwrap()).unwrap();
     assert!(scene.geometry.triangle_count() > 60_000);
     let framed = frame_model(&d, scene.geometry.bounds());

@@ -129,7 +129,7 @@ fn whitted_scene_shows_reflection_refraction_and_shadows() {
 #[test]
 fn raycast_casts_no_secondary_rays_and_shows_opaque_glass() {
     let mut d = with_size(builtin("whitted"), 80, 60);
-    d.render.integrator = "raycast".into();
+    d.render.integrator = appel::scene::IntegratorKind::Raycast;
     let (film, stats, _) = render_description(&d);
     assert_eq!(stats.rays.reflection + stats.rays.refraction, 0);
     assert_eq!(stats.rays.camera, 80 * 60);

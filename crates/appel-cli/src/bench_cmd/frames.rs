@@ -22,7 +22,7 @@ pub fn run(scene_name: &str, args: &BenchArgs) -> Result<()> {
         let (scene, _) = pool.install(|| {
             load_scene(Some(scene_name), |d| {
                 d.render.spp = 1;
-                d.render.max_depth = args.max_depth;
+                d.render.max_depth = args.max_depth as i32;
                 if let Some(a) = accel {
                     d.render.accel = a.to_string();
                 }

@@ -8,7 +8,7 @@ use super::{GenOptions, GenReport};
 use crate::error::{Error, Result};
 use crate::geometry::procedural::SplitMix64;
 use crate::io::placements::placement_line;
-use crate::io::{write_atomically, write_ply};
+use crate::output::{write_atomically, write_ply};
 use glam::{Mat4, Quat, Vec3};
 use std::fmt::Write as _;
 use std::path::Path;

@@ -65,7 +65,7 @@ pub fn city_scene(
     let mesh = mesh.into_mesh();
     let triangles = mesh.triangle_count() as u64;
     step(&format!("writing city.ply ({triangles} triangles)"))?;
-    crate::io::write_ply(&dir.join("city.ply"), &[(0, &mesh)])?;
+    crate::output::write_ply(&dir.join("city.ply"), &[(0, &mesh)])?;
     drop(mesh);
     let e = extent;
     let scene = format!(
@@ -121,7 +121,7 @@ intensity = 1.1
         size = 2.2 * e,
     );
     step("writing city.toml")?;
-    crate::io::write_atomically(&dir.join("city.toml"), |out| {
+    crate::output::write_atomically(&dir.join("city.toml"), |out| {
         use std::io::Write;
         out.write_all(scene.as_bytes())
             .map_err(|e| Error::io(dir.join("city.toml"), e))

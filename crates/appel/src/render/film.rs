@@ -19,6 +19,8 @@ pub struct Film {
     /// The instance hit (`[[instance]]` placements in file order); [`MISS_ID`] for misses and for
     /// surfaces that are not instanced.
     pub instance_id: Vec<u32>,
+    /// Monte Carlo renders: the variance of each pixel's estimate, per channel (empty otherwise).
+    pub variance: Vec<Vec3>,
 }
 
 /// What the camera ray of one pixel saw first.
@@ -53,6 +55,7 @@ impl Film {
             shape_id: vec![MISS_ID; n],
             prim_id: vec![MISS_ID; n],
             instance_id: vec![MISS_ID; n],
+            variance: vec![],
         }
     }
 
@@ -69,6 +72,7 @@ impl Film {
             shape_id: Vec::with_capacity(n),
             prim_id: Vec::with_capacity(n),
             instance_id: Vec::with_capacity(n),
+            variance: vec![],
         }
     }
 

@@ -1,8 +1,16 @@
 //! Rendering: camera rays over image tiles in parallel, an integrator per ray, results on a film.
 
+#[cfg(test)]
+pub(crate) mod chi2;
+pub mod emitter;
 mod film;
+pub mod film_block;
+pub mod filter;
 pub mod integrator;
 pub mod optics;
+pub mod progressive;
+pub mod sampler;
+pub mod texture;
 
 pub use film::{Film, PixelAov, MISS_ID};
 pub use integrator::{surface_hit, Integrator, Raycast, SurfaceHit, Whitted};
@@ -48,6 +56,8 @@ impl RayCounts {
 pub struct TraceContext {
     pub rays: RayCounts,
     pub traversal: TraversalStats,
+    /// Monte Carlo samples whose value was not finite (counted as zero).
+    pub invalid_samples: u64,
 }
 
 /// What a render did.
@@ -56,9 +66,19 @@ pub struct RenderStats {
     pub time: Duration,
     pub rays: RayCounts,
     pub traversal: TraversalStats,
+    /// Samples per pixel taken (fewer than asked when a time limit stopped the render).
+    pub spp: u32,
+    pub invalid_samples: u64,
 }
 
 impl RenderStats {
+    pub(crate) fn merge(&mut self, ctx: &TraceContext) {
+        self.rays.merge(&ctx.rays);
+        self.traversal.merge(&ctx.traversal);
+        self.invalid_samples += ctx.invalid_samples;
+    }
+
+
     pub fn mrays_per_second(&self) -> f64 {
         self.rays.total() as f64 / self.time.as_secs_f64().max(1e-9) / 1e6
     }
@@ -71,6 +91,8 @@ pub struct RenderOptions<'a> {
     pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
     /// When set (Ctrl-C), the render stops after the tiles in flight and returns [`Error::Cancelled`].
     pub cancel: Option<&'a AtomicBool>,
+    /// Monte Carlo integrators: stop after the pass during which this much time has passed.
+    pub time_limit: Option<Duration>,
 }
 
 /// Sub-pixel positions: sample 0 is the pixel centre (so `spp = 1` is exactly the convention's
@@ -88,10 +110,13 @@ fn sample_offset(s: u32) -> (f32, f32) {
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
     match scene.settings.integrator {
         IntegratorKind::Raycast => render_with(scene, &Raycast, options),
+        IntegratorKind::Path | IntegratorKind::Direct => Err(Error::Invalid(
+            "the path and direct integrators are not built into this version".into(),
+        )),
         IntegratorKind::Whitted => render_with(
             scene,
             &Whitted {
-                max_depth: scene.settings.max_depth,
+                max_depth: scene.settings.max_depth.max(0) as u32,
             },
             options,
         ),

@@ -60,19 +60,15 @@ pub fn frame_model(base: &Description, bounds: Aabb) -> Description {
     let light_pos = eye + (0.3 * up - 0.3 * right) * distance;
     let light_distance = (light_pos - center).length();
     d.lights = vec![
-        LightDesc {
-            kind: "point".into(),
-            position: Some(light_pos.into()),
-            direction: None,
+        LightDesc::Point {
+            position: light_pos.into(),
             color: [1.0; 3],
             // Irradiance 0.55 at the model's centre: lit faces of an albedo-0.8 surface come out at
             // about 0.5 linear, mid-grey in sRGB, leaving room for the highlights of brighter albedos.
             intensity: 0.55 * light_distance * light_distance,
         },
-        LightDesc {
-            kind: "directional".into(),
-            position: None,
-            direction: Some([-0.3, -1.0, -0.2]),
+        LightDesc::Directional {
+            direction: [-0.3, -1.0, -0.2],
             color: [1.0; 3],
             intensity: 0.15,
         },
@@ -92,6 +88,7 @@ pub fn model_description(file: &str) -> Description {
             fov: 45.0,
             width: 640,
             height: 480,
+            ..CameraDesc::default()
         },
         render: Default::default(),
         environment: Default::default(),

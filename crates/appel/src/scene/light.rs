@@ -11,18 +11,34 @@ pub enum Light {
 }
 
 impl Light {
-    pub fn new(d: &LightDesc) -> Self {
-        let power = Vec3::from(d.color) * d.intensity;
-        match (d.position, d.direction) {
-            (Some(p), _) => Light::Point {
-                position: p.into(),
-                intensity: power,
-            },
-            (None, Some(dir)) => Light::Directional {
-                direction: Vec3::from(dir).normalize(),
-                radiance: power,
-            },
-            (None, None) => unreachable!("validated: a light has a position or a direction"),
+    /// Whitted's lights: the point and directional ones (spot lights as points with their cone
+    /// ignored); environment lights have no Whitted counterpart (`environment.background` is
+    /// Whitted's sky).
+    pub fn new(d: &LightDesc) -> Option<Self> {
+        match d {
+            LightDesc::Point {
+                position,
+                color,
+                intensity,
+            }
+            | LightDesc::Spot {
+                position,
+                color,
+                intensity,
+                ..
+            } => Some(Light::Point {
+                position: (*position).into(),
+                intensity: Vec3::from(*color) * *intensity,
+            }),
+            LightDesc::Directional {
+                direction,
+                color,
+                intensity,
+            } => Some(Light::Directional {
+                direction: Vec3::from(*direction).normalize(),
+                radiance: Vec3::from(*color) * *intensity,
+            }),
+            LightDesc::Constant { .. } | LightDesc::Envmap { .. } => None,
         }
     }
 }

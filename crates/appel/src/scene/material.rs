@@ -1,5 +1,6 @@
-use super::description::MaterialDesc;
+use super::description::{IorDesc, MaterialDesc, TextureDesc, TextureNode, WhittedDesc};
 use crate::math::{Vec2, Vec3};
+use std::collections::BTreeMap;
 
 /// Whitted's surface model, see [`MaterialDesc`] and `docs/scene-format.md`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -23,7 +24,14 @@ pub struct Checker {
 }
 
 impl Material {
-    pub fn new(d: &MaterialDesc) -> Self {
+    /// Whitted's view of any material: the physically based ones by their nearest Whitted
+    /// equivalent (documented in docs/scene-format.md), so that raycast and Whitted render every
+    /// scene. `all` resolves the materials a two-sided or mask material wraps.
+    pub fn approximating(d: &MaterialDesc, all: &BTreeMap<String, MaterialDesc>) -> Self {
+        Self::new(&whitted_equivalent(d, all, 0))
+    }
+
+    pub fn new(d: &WhittedDesc) -> Self {
         Self {
             color: d.color.into(),
             checker: d.checker.as_ref().map(|c| Checker {
@@ -68,6 +76,85 @@ impl Material {
     }
 }
 
+fn whitted_equivalent(
+    d: &MaterialDesc,
+    all: &BTreeMap<String, MaterialDesc>,
+    depth: u32,
+) -> WhittedDesc {
+    let grey = |t: &TextureDesc| match t {
+        TextureDesc::Value(v) => [*v; 3],
+        TextureDesc::Rgb(c) => *c,
+        TextureDesc::Texture(TextureNode::Checkerboard { color0, .. }) => *color0,
+        TextureDesc::Texture(TextureNode::Bitmap { .. }) => [0.5; 3],
+    };
+    let ior = |i: &IorDesc, e: &IorDesc| {
+        let v = |x: &IorDesc| match x {
+            IorDesc::Value(v) => *v,
+            IorDesc::Named(n) if n == "air" || n == "vacuum" => 1.0,
+            IorDesc::Named(_) => 1.5,
+        };
+        v(i) / v(e)
+    };
+    let nested = |name: &str| match all.get(name) {
+        Some(m) if depth < 8 => whitted_equivalent(m, all, depth + 1),
+        _ => WhittedDesc::default(),
+    };
+    let base = WhittedDesc {
+        ambient: 0.0,
+        diffuse: 1.0,
+        ..Default::default()
+    };
+    match d {
+        MaterialDesc::Whitted(w) => w.clone(),
+        MaterialDesc::Diffuse(m) => WhittedDesc {
+            color: grey(&m.reflectance),
+            ..base
+        },
+        MaterialDesc::Conductor(m) => WhittedDesc {
+            color: grey(&m.specular_reflectance),
+            diffuse: 0.0,
+            reflection: 1.0,
+            ..base
+        },
+        MaterialDesc::RoughConductor(m) => WhittedDesc {
+            color: grey(&m.specular_reflectance),
+            diffuse: 0.0,
+            reflection: 1.0,
+            ..base
+        },
+        MaterialDesc::Dielectric(m) | MaterialDesc::ThinDielectric(m) => WhittedDesc {
+            diffuse: 0.0,
+            transmission: 1.0,
+            reflection: 1.0,
+            fresnel: true,
+            ior: ior(&m.int_ior, &m.ext_ior),
+            ..base
+        },
+        MaterialDesc::RoughDielectric(m) => WhittedDesc {
+            diffuse: 0.0,
+            transmission: 1.0,
+            reflection: 1.0,
+            fresnel: true,
+            ior: ior(&m.int_ior, &m.ext_ior),
+            ..base
+        },
+        MaterialDesc::Plastic(m) => WhittedDesc {
+            color: grey(&m.diffuse_reflectance),
+            specular: 1.0,
+            shininess: 200.0,
+            ..base
+        },
+        MaterialDesc::RoughPlastic(m) => WhittedDesc {
+            color: grey(&m.diffuse_reflectance),
+            specular: 1.0,
+            shininess: 30.0,
+            ..base
+        },
+        MaterialDesc::TwoSided(t) => nested(&t.front),
+        MaterialDesc::Mask(m) => nested(&m.material),
+    }
+}
+
 /// `x.floor() as i64`, without `floor`: x86_64 without SSE4.1 has no rounding instruction, so
 /// `floor` is a library call (2% of Whitted's frame). The conversion truncates towards zero (and
 /// saturates, NaN giving 0, as `floor() as i64` does); one step down fixes negative non-integers.
@@ -87,7 +174,7 @@ mod tests {
 
     #[test]
     fn checker_alternates_between_neighbouring_squares() {
-        let d = MaterialDesc {
+        let d = WhittedDesc {
             color: [1.0, 0.0, 0.0],
             checker: Some(super::super::description::CheckerDesc {
                 color: [1.0, 1.0, 0.0],

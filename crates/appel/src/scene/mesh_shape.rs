@@ -1,7 +1,7 @@
 //! `type = "mesh"` shapes: a mesh file, placed by its transform, with its own materials unless the
 //! shape names one.
 
-use super::description::{MaterialDesc, TransformDesc};
+use super::description::{TransformDesc, WhittedDesc};
 use super::{Geometry, Instance, Material, Prototype};
 use crate::accel::{AccelKind, AccelOptions};
 use crate::error::{Error, Location, Result};
@@ -97,7 +97,7 @@ pub(super) fn add_mesh_file(
 /// `1 - d` the transmission with `Ni` as its index of refraction.
 pub fn material_from_file(m: &FileMaterial) -> Material {
     let clamp = |x: f32| if x.is_finite() { x.max(0.0) } else { 0.0 };
-    let d = MaterialDesc {
+    let d = WhittedDesc {
         color: m.diffuse.map(clamp),
         diffuse: 1.0,
         specular: clamp(m.specular.into_iter().fold(0.0, f32::max)),

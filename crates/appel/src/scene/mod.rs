@@ -39,16 +39,12 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// Which integrator renders the scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum IntegratorKind {
-    Raycast,
-    Whitted,
-}
+pub use description::IntegratorName as IntegratorKind;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
     pub integrator: IntegratorKind,
-    pub max_depth: u32,
+    pub max_depth: i32,
     pub spp: u32,
     pub accel: AccelKind,
     /// `[render.bvh]`, `[render.grid]`, `[render.kdtree]`.
@@ -195,10 +191,7 @@ impl Scene {
         let steps = progress::Steps::new(options, mesh_shapes + 2 * used_meshes + 1);
         let skip_top_level = options.skip_top_level;
         let settings = RenderSettings {
-            integrator: match d.render.integrator.as_str() {
-                "raycast" => IntegratorKind::Raycast,
-                _ => IntegratorKind::Whitted,
-            },
+            integrator: d.render.integrator,
             max_depth: d.render.max_depth,
             spp: d.render.spp,
             accel: AccelKind::from_name(&d.render.accel).ok_or_else(|| {
@@ -216,7 +209,11 @@ impl Scene {
         // Material 0 is the default grey diffuse of shapes that name none.
         let names: Vec<&String> = d.materials.keys().collect();
         let mut materials = vec![Material::new(&Default::default())];
-        materials.extend(d.materials.values().map(Material::new));
+        materials.extend(
+            d.materials
+                .values()
+                .map(|m| Material::approximating(m, &d.materials)),
+        );
         let mut geometry = Geometry::new(triangle_test);
         for (index, s) in d.shapes.iter().enumerate() {
             let first_new_shape = geometry.shapes.len();
@@ -340,7 +337,7 @@ impl Scene {
             geometry,
             accel,
             materials,
-            lights: d.lights.iter().map(Light::new).collect(),
+            lights: d.lights.iter().filter_map(Light::new).collect(),
             background: d.environment.background.into(),
             ambient: d.environment.ambient.into(),
             timings: SceneTimings { load, build },
@@ -388,7 +385,7 @@ impl Scene {
     /// used to frame a bare mesh file once its bounds are known.
     pub fn set_view(&mut self, d: &Description) {
         self.camera = Camera::new(&d.camera);
-        self.lights = d.lights.iter().map(Light::new).collect();
+        self.lights = d.lights.iter().filter_map(Light::new).collect();
         self.background = d.environment.background.into();
         self.ambient = d.environment.ambient.into();
     }

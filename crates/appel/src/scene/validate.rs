@@ -1,7 +1,10 @@
 //! Checks that a parsed [`Description`] makes sense, before anything is built from it. Each problem is
 //! reported with the path of the offending value, which the loader turns into a line and column.
 
-use super::description::{Description, InstanceDesc, ShapeDesc, TransformDesc, Vec3f};
+use super::description::{
+    Description, InstanceDesc, LightDesc, MaterialDesc, ShapeDesc, TextureDesc, TextureNode,
+    TransformDesc, Vec3f,
+};
 use super::parse::PathSeg;
 use crate::accel::AccelKind;
 
@@ -9,12 +12,20 @@ use crate::accel::AccelKind;
 /// this is 4 GB.
 pub const MAX_PIXELS: u64 = 100_000_000;
 pub const MAX_DIMENSION: u32 = 65_536;
-pub const MAX_DEPTH: u32 = 64;
+pub const MAX_DEPTH: i32 = 1024;
 pub const MAX_SPP: u32 = 65_536;
-pub const INTEGRATORS: &[&str] = &["raycast", "whitted"];
 pub const TRIANGLE_TESTS: &[&str] = &["watertight", "moller"];
-pub const SHAPE_TYPES: &[&str] = &["sphere", "plane", "triangle", "implicit", "torus", "mesh"];
-pub const LIGHT_TYPES: &[&str] = &["point", "directional"];
+pub const SHAPE_TYPES: &[&str] = &[
+    "sphere",
+    "plane",
+    "triangle",
+    "implicit",
+    "torus",
+    "mesh",
+    "rectangle",
+    "cube",
+    "disk",
+];
 
 /// A problem and where it is.
 #[derive(Clone, Debug, PartialEq)]
@@ -117,27 +128,7 @@ pub fn validate(d: &Description) -> Result<(), Invalid> {
     })?;
     for (name, m) in &d.materials {
         c.at(key("materials"), |c| {
-            c.at(key(name), |c| {
-                c.non_negative("color", &m.color)?;
-                for (k, v) in [
-                    ("ambient", m.ambient),
-                    ("diffuse", m.diffuse),
-                    ("specular", m.specular),
-                    ("shininess", m.shininess),
-                    ("reflection", m.reflection),
-                    ("transmission", m.transmission),
-                ] {
-                    c.non_negative(k, &[v])?;
-                }
-                c.positive("ior", m.ior)?;
-                if let Some(ch) = &m.checker {
-                    c.at(key("checker"), |c| {
-                        c.non_negative("color", &ch.color)?;
-                        c.positive("size", ch.size)
-                    })?;
-                }
-                Ok(())
-            })
+            c.at(key(name), |c| material(c, d, name, m))
         })?;
     }
     for (i, s) in d.shapes.iter().enumerate() {
@@ -161,36 +152,159 @@ pub fn validate(d: &Description) -> Result<(), Invalid> {
         })?;
     }
     for (i, l) in d.lights.iter().enumerate() {
-        c.at(key("light"), |c| {
-            c.at(PathSeg::Index(i), |c| {
-                c.one_of("type", &l.kind, LIGHT_TYPES)?;
-                c.non_negative("color", &l.color)?;
-                c.non_negative("intensity", &[l.intensity])?;
-                match l.kind.as_str() {
-                    "point" => {
-                        let Some(p) = l.position else {
-                            return c.fail("", "a point light needs `position`");
-                        };
-                        c.finite("position", &p)?;
-                        if l.direction.is_some() {
-                            return c.fail("direction", "a point light has no `direction`");
-                        }
-                    }
-                    _ => {
-                        let Some(dir) = l.direction else {
-                            return c.fail("", "a directional light needs `direction`");
-                        };
-                        c.non_zero("direction", dir)?;
-                        if l.position.is_some() {
-                            return c.fail("position", "a directional light has no `position`");
-                        }
-                    }
-                }
-                Ok(())
-            })
-        })?;
+        c.at(key("light"), |c| c.at(PathSeg::Index(i), |c| light(c, l)))?;
     }
     Ok(())
+}
+
+fn light(c: &mut Checker, l: &LightDesc) -> Check {
+    match l {
+        LightDesc::Point {
+            position,
+            color,
+            intensity,
+        } => {
+            c.finite("position", position)?;
+            c.non_negative("color", color)?;
+            c.non_negative("intensity", &[*intensity])
+        }
+        LightDesc::Directional {
+            direction,
+            color,
+            intensity,
+        } => {
+            c.non_zero("direction", *direction)?;
+            c.non_negative("color", color)?;
+            c.non_negative("intensity", &[*intensity])
+        }
+        LightDesc::Spot {
+            position,
+            look_at,
+            color,
+            intensity,
+            cutoff_angle,
+            beam_width,
+        } => {
+            c.finite("position", position)?;
+            c.finite("look_at", look_at)?;
+            if position == look_at {
+                return c.fail("look_at", "`look_at` must differ from `position`");
+            }
+            c.non_negative("color", color)?;
+            c.non_negative("intensity", &[*intensity])?;
+            if !(*cutoff_angle > 0.0 && *cutoff_angle <= 90.0) {
+                return c.fail(
+                    "cutoff_angle",
+                    format!("`cutoff_angle` must lie in (0, 90] degrees, got {cutoff_angle}"),
+                );
+            }
+            if let Some(b) = beam_width {
+                if !(*b > 0.0 && b <= cutoff_angle) {
+                    return c.fail(
+                        "beam_width",
+                        format!("`beam_width` must lie in (0, cutoff_angle], got {b}"),
+                    );
+                }
+            }
+            Ok(())
+        }
+        LightDesc::Constant { radiance } => c.non_negative("radiance", radiance),
+        LightDesc::Envmap {
+            file,
+            scale,
+            transform: t,
+        } => {
+            if file.is_empty() {
+                return c.fail("file", "`file` must name an image file");
+            }
+            c.non_negative("scale", &[*scale])?;
+            if let Some(t) = t {
+                c.at(key("transform"), |c| transform(c, t))?;
+            }
+            Ok(())
+        }
+    }
+}
+
+fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> Check {
+    if let MaterialDesc::Whitted(w) = m {
+        c.non_negative("color", &w.color)?;
+        for (k, v) in [
+            ("ambient", w.ambient),
+            ("diffuse", w.diffuse),
+            ("specular", w.specular),
+            ("shininess", w.shininess),
+            ("reflection", w.reflection),
+            ("transmission", w.transmission),
+        ] {
+            c.non_negative(k, &[v])?;
+        }
+        c.positive("ior", w.ior)?;
+        if let Some(ch) = &w.checker {
+            c.at(key("checker"), |c| {
+                c.non_negative("color", &ch.color)?;
+                c.positive("size", ch.size)
+            })?;
+        }
+    }
+    for (k, t) in m.textures() {
+        c.at(key(k), |c| texture(c, t))?;
+    }
+    for (k, r) in match m {
+        MaterialDesc::TwoSided(t) => vec![("front", Some(&t.front)), ("back", t.back.as_ref())],
+        MaterialDesc::Mask(mask) => vec![("material", Some(&mask.material))],
+        _ => vec![],
+    } {
+        let Some(r) = r else { continue };
+        known_name(c, k, "material", r, d.materials.keys())?;
+        if r == name {
+            return c.fail(k, format!("material `{name}` cannot wrap itself"));
+        }
+    }
+    // Wrapping chains end: a material reaches no material twice.
+    let mut seen = vec![name];
+    let mut frontier = m.references();
+    while let Some(next) = frontier.pop() {
+        if seen.contains(&next) {
+            return c.fail(
+                "",
+                format!("material `{name}` wraps itself through `{next}`"),
+            );
+        }
+        seen.push(next);
+        if let Some(m) = d.materials.get(next) {
+            frontier.extend(m.references());
+        }
+    }
+    Ok(())
+}
+
+fn texture(c: &mut Checker, t: &TextureDesc) -> Check {
+    match t {
+        TextureDesc::Value(v) => c.non_negative("", &[*v]),
+        TextureDesc::Rgb(v) => c.non_negative("", v),
+        TextureDesc::Texture(TextureNode::Bitmap { file, to_uv, .. }) => {
+            if file.is_empty() {
+                return c.fail("file", "`file` must name an image file");
+            }
+            if let Some(m) = to_uv {
+                c.finite("to_uv", m.as_flattened())?;
+            }
+            Ok(())
+        }
+        TextureDesc::Texture(TextureNode::Checkerboard {
+            color0,
+            color1,
+            to_uv,
+        }) => {
+            c.non_negative("color0", color0)?;
+            c.non_negative("color1", color1)?;
+            if let Some(m) = to_uv {
+                c.finite("to_uv", m.as_flattened())?;
+            }
+            Ok(())
+        }
+    }
 }
 
 fn key(k: &str) -> PathSeg {
@@ -250,19 +364,33 @@ fn camera(c: &mut Checker, d: &Description) -> Check {
 
 fn render(c: &mut Checker, d: &Description) -> Check {
     let r = &d.render;
-    c.one_of("integrator", &r.integrator, INTEGRATORS)?;
     if AccelKind::from_name(&r.accel).is_none() {
         c.one_of("accel", &r.accel, AccelKind::NAMES)?;
     }
     c.one_of("triangle", &r.triangle, TRIANGLE_TESTS)?;
-    if r.max_depth > MAX_DEPTH {
+    let min_depth = if r.integrator.is_monte_carlo() { -1 } else { 0 };
+    if !(min_depth..=MAX_DEPTH).contains(&r.max_depth) {
         return c.fail(
             "max_depth",
             format!(
-                "`max_depth` must be at most {MAX_DEPTH}, got {}",
+                "`max_depth` must be between {min_depth} and {MAX_DEPTH}{}, got {}",
+                if min_depth < 0 {
+                    " (-1: unlimited)"
+                } else {
+                    ""
+                },
                 r.max_depth
             ),
         );
+    }
+    match r.filter {
+        super::description::FilterDesc::Box { radius }
+        | super::description::FilterDesc::Tent { radius } => {
+            c.at(key("filter"), |c| c.positive("radius", radius))?
+        }
+        super::description::FilterDesc::Gaussian { stddev } => {
+            c.at(key("filter"), |c| c.positive("stddev", stddev))?
+        }
     }
     if r.spp == 0 || r.spp > MAX_SPP {
         return c.fail(
@@ -378,13 +506,15 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         ("axis", s.axis.is_some()),
         ("file", s.file.is_some()),
         ("transform", s.transform.is_some()),
+        ("face_normals", s.face_normals.is_some()),
     ];
     let (required, optional): (&[&str], &[&str]) = match s.kind.as_str() {
         "sphere" => (&["center", "radius"], &[]),
         "plane" => (&["point", "normal"], &["size"]),
         "implicit" => (&["f", "bounds"], &["transform"]),
         "torus" => (&["center", "major_radius", "minor_radius"], &["axis"]),
-        "mesh" => (&["file"], &["transform"]),
+        "mesh" => (&["file"], &["transform", "face_normals"]),
+        "rectangle" | "cube" | "disk" => (&[], &["transform"]),
         _ => (&["vertices"], &[]),
     };
     for (k, is_present) in present {
@@ -456,10 +586,39 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
     if let Some(t) = &s.transform {
         c.at(key("transform"), |c| transform(c, t))?;
     }
+    if let Some(e) = &s.emitter {
+        c.at(key("emitter"), |c| {
+            c.at(key("radiance"), |c| texture(c, &e.radiance))
+        })?;
+        if matches!(s.kind.as_str(), "plane" | "implicit" | "torus") {
+            return c.fail(
+                "emitter",
+                format!(
+                    "a {} cannot emit: area lights are spheres, triangles, meshes, rectangles, cubes and disks",
+                    s.kind
+                ),
+            );
+        }
+    }
     Ok(())
 }
 
 fn transform(c: &mut Checker, t: &TransformDesc) -> Check {
+    if let Some(m) = &t.matrix {
+        if t.translate.is_some() || t.rotate.is_some() || t.scale.is_some() {
+            return c.fail(
+                "matrix",
+                "a transform is a `matrix` or translate/rotate/scale, not both",
+            );
+        }
+        c.finite("matrix", m.as_flattened())?;
+        if m[3] != [0.0, 0.0, 0.0, 1.0] {
+            return c.fail(
+                "matrix",
+                "the matrix's last row must be [0, 0, 0, 1] (no projective transforms)",
+            );
+        }
+    }
     if let Some(tr) = t.translate {
         c.finite("translate", &tr)?;
     }

@@ -1,6 +1,14 @@
 //! The scene file's schema: plain serde data, exactly what the user wrote (with defaults filled in).
 //! `docs/scene-format.md` documents every key. Unknown keys are rejected.
 
+mod light;
+mod material;
+mod render;
+
+pub use light::{AreaEmitterDesc, LightDesc};
+pub use material::*;
+pub use render::*;
+
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -14,7 +22,7 @@ pub struct Description {
     pub render: RenderDesc,
     #[serde(default)]
     pub environment: EnvironmentDesc,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "material::deserialize_materials")]
     pub materials: BTreeMap<String, MaterialDesc>,
     #[serde(default, rename = "shape", skip_serializing_if = "Vec::is_empty")]
     pub shapes: Vec<ShapeDesc>,
@@ -55,43 +63,31 @@ pub struct InstanceDesc {
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CameraDesc {
+    /// "perspective" (default) or "orthographic".
+    #[serde(default, rename = "type", skip_serializing_if = "is_default")]
+    pub kind: CameraKind,
     pub eye: Vec3f,
     pub look_at: Vec3f,
     #[serde(default = "default_up")]
     pub up: Vec3f,
-    /// Vertical field of view in degrees.
+    /// Field of view in degrees, along `fov_axis`.
     #[serde(default = "default_fov")]
     pub fov: f32,
+    /// The image axis `fov` spans: "y" (vertical, the default), "x", "diagonal", "smaller" or
+    /// "larger", as Mitsuba's `fov_axis`.
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub fov_axis: FovAxis,
+    /// Orthographic cameras: half the width of the view in scene units (the height follows the
+    /// aspect ratio).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub half_width: Option<f32>,
+    /// Nothing nearer than this distance along the view axis is seen.
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub near_clip: f32,
     #[serde(default = "default_width")]
     pub width: u32,
     #[serde(default = "default_height")]
     pub height: u32,
-}
-
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct RenderDesc {
-    #[serde(default = "default_integrator")]
-    pub integrator: String,
-    #[serde(default = "default_max_depth")]
-    pub max_depth: u32,
-    #[serde(default = "default_accel")]
-    pub accel: String,
-    /// Samples per pixel; 1 means exactly the pixel centre.
-    #[serde(default = "default_spp")]
-    pub spp: u32,
-    /// Ray-triangle test: "watertight" or "moller".
-    #[serde(default = "default_triangle")]
-    pub triangle: String,
-    /// `[render.bvh]`: how the BVH is built, when `accel = "bvh"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bvh: Option<BvhDesc>,
-    /// `[render.grid]`: the uniform grid's resolution, when `accel = "grid"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub grid: Option<GridDesc>,
-    /// `[render.kdtree]`: the kd-tree's build parameters, when `accel = "kdtree"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub kdtree: Option<KdTreeDesc>,
 }
 
 /// `[render.bvh]`; absent keys take the defaults of `accel::BvhOptions`.
@@ -132,21 +128,6 @@ pub struct KdTreeDesc {
     pub max_depth: Option<u32>,
 }
 
-impl Default for RenderDesc {
-    fn default() -> Self {
-        Self {
-            integrator: default_integrator(),
-            max_depth: default_max_depth(),
-            accel: default_accel(),
-            spp: default_spp(),
-            triangle: default_triangle(),
-            bvh: None,
-            grid: None,
-            kdtree: None,
-        }
-    }
-}
-
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct EnvironmentDesc {
@@ -165,63 +146,6 @@ impl Default for EnvironmentDesc {
             ambient: default_ambient_light(),
         }
     }
-}
-
-/// Whitted's shading model: `ambient * ka + sum over visible lights (kd * color * cos + ks * blinn^n)
-/// + kr * reflected + kt * transmitted`.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialDesc {
-    /// Base (diffuse) colour, linear RGB.
-    #[serde(default = "default_color")]
-    pub color: Vec3f,
-    /// Optional procedural checkerboard alternating `color` and `checker.color`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub checker: Option<CheckerDesc>,
-    #[serde(default = "default_ka")]
-    pub ambient: f32,
-    #[serde(default = "default_kd")]
-    pub diffuse: f32,
-    #[serde(default)]
-    pub specular: f32,
-    #[serde(default = "default_shininess")]
-    pub shininess: f32,
-    #[serde(default)]
-    pub reflection: f32,
-    #[serde(default)]
-    pub transmission: f32,
-    #[serde(default = "default_ior")]
-    pub ior: f32,
-    /// Weight reflection and transmission by the Fresnel reflectance instead of fixed coefficients.
-    #[serde(default)]
-    pub fresnel: bool,
-}
-
-impl Default for MaterialDesc {
-    fn default() -> Self {
-        Self {
-            color: default_color(),
-            checker: None,
-            ambient: default_ka(),
-            diffuse: default_kd(),
-            specular: 0.0,
-            shininess: default_shininess(),
-            reflection: 0.0,
-            transmission: 0.0,
-            ior: default_ior(),
-            fresnel: false,
-        }
-    }
-}
-
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct CheckerDesc {
-    /// The second colour of the board.
-    pub color: Vec3f,
-    /// Side of one square in surface units (scene units on planes).
-    #[serde(default = "default_checker_size")]
-    pub size: f32,
 }
 
 /// One `[[shape]]`. Which keys apply depends on `type`; validation rejects the others.
@@ -268,12 +192,26 @@ pub struct ShapeDesc {
     pub file: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform: Option<TransformDesc>,
+    /// Meshes: ignore the file's vertex normals and shade with the triangles' own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub face_normals: Option<bool>,
+    /// Turn the surface's normals around (which side is the front for one-sided materials and
+    /// emitters).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip_normals: Option<bool>,
+    /// Makes the surface an area light.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emitter: Option<AreaEmitterDesc>,
 }
 
-/// Places a mesh: scale first, then rotate, then translate (`M = T * R * S`).
+/// Places a shape: scale first, then rotate, then translate (`M = T * R * S`); or a whole
+/// `matrix`.
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct TransformDesc {
+    /// A 4x4 matrix, row by row (the last row `[0, 0, 0, 1]`), instead of the other keys.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub matrix: Option<[[f32; 4]; 4]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub translate: Option<Vec3f>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -307,10 +245,46 @@ impl ScaleDesc {
     }
 }
 
+impl Default for CameraDesc {
+    fn default() -> Self {
+        Self {
+            kind: CameraKind::default(),
+            eye: [0.0, 0.0, 5.0],
+            look_at: [0.0; 3],
+            up: default_up(),
+            fov: default_fov(),
+            fov_axis: FovAxis::default(),
+            half_width: None,
+            near_clip: 0.0,
+            width: default_width(),
+            height: default_height(),
+        }
+    }
+}
+
 impl TransformDesc {
+    /// Follows the transform with a uniform scale by `s` about the origin:
+    /// `s * (T R S) = T(s t) R S(s S)`.
+    pub fn scale_about_origin(&mut self, s: f32) {
+        if let Some(m) = &mut self.matrix {
+            for row in m.iter_mut().take(3) {
+                for x in row.iter_mut() {
+                    *x *= s;
+                }
+            }
+            return;
+        }
+        self.translate = self.translate.map(|t| t.map(|x| x * s));
+        let axes = self.scale.map_or([1.0; 3], ScaleDesc::axes);
+        self.scale = Some(ScaleDesc::Axes(axes.map(|x| x * s)));
+    }
+
     /// `T * R * S`: applied to a point, scale acts first, then rotation, then translation.
     pub fn matrix(&self) -> glam::Mat4 {
         use glam::{Mat4, Quat, Vec3};
+        if let Some(m) = self.matrix {
+            return Mat4::from_cols_array_2d(&m).transpose();
+        }
         let s = Vec3::from(self.scale.map_or([1.0; 3], ScaleDesc::axes));
         let r = self.rotate.as_ref().map_or(Quat::IDENTITY, |r| {
             Quat::from_axis_angle(Vec3::from(r.axis).normalize(), r.degrees.to_radians())
@@ -318,23 +292,6 @@ impl TransformDesc {
         let t = Vec3::from(self.translate.unwrap_or([0.0; 3]));
         Mat4::from_scale_rotation_translation(s, r, t)
     }
-}
-
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct LightDesc {
-    #[serde(rename = "type")]
-    pub kind: String,
-    /// Point lights: position. Intensity falls off with the inverse square of the distance.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub position: Option<Vec3f>,
-    /// Directional lights: the direction the light travels.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub direction: Option<Vec3f>,
-    #[serde(default = "default_light_color")]
-    pub color: Vec3f,
-    #[serde(default = "default_intensity")]
-    pub intensity: f32,
 }
 
 fn default_up() -> Vec3f {
@@ -349,50 +306,14 @@ fn default_width() -> u32 {
 fn default_height() -> u32 {
     480
 }
-fn default_integrator() -> String {
-    "whitted".into()
-}
-fn default_max_depth() -> u32 {
-    5
-}
-fn default_accel() -> String {
-    crate::accel::AccelKind::default().name().into()
-}
-fn default_spp() -> u32 {
-    1
-}
-fn default_triangle() -> String {
-    "watertight".into()
+fn is_default<T: Default + PartialEq>(v: &T) -> bool {
+    *v == T::default()
 }
 fn default_background() -> Vec3f {
     [0.0, 0.0, 0.0]
 }
 fn default_ambient_light() -> Vec3f {
     [1.0, 1.0, 1.0]
-}
-fn default_color() -> Vec3f {
-    [0.8, 0.8, 0.8]
-}
-fn default_ka() -> f32 {
-    0.1
-}
-fn default_kd() -> f32 {
-    0.9
-}
-fn default_shininess() -> f32 {
-    32.0
-}
-fn default_ior() -> f32 {
-    1.5
-}
-fn default_checker_size() -> f32 {
-    1.0
-}
-fn default_light_color() -> Vec3f {
-    [1.0, 1.0, 1.0]
-}
-fn default_intensity() -> f32 {
-    1.0
 }
 
 impl Description {
@@ -404,7 +325,10 @@ impl Description {
         d.camera.eye = sc(d.camera.eye);
         d.camera.look_at = sc(d.camera.look_at);
         for m in d.materials.values_mut() {
-            if let Some(c) = &mut m.checker {
+            if let MaterialDesc::Whitted(WhittedDesc {
+                checker: Some(c), ..
+            }) = m
+            {
                 c.size *= s;
             }
         }
@@ -417,10 +341,9 @@ impl Description {
             let placed_implicit = sh.f.is_some() && sh.transform.is_some();
             if sh.file.is_some() || placed_implicit {
                 // s * (T R S) = T(s t) R S(s S): scale the translation and the scale.
-                let t = sh.transform.get_or_insert_with(Default::default);
-                t.translate = t.translate.map(sc);
-                let axes = t.scale.map_or([1.0; 3], ScaleDesc::axes);
-                t.scale = Some(ScaleDesc::Axes(sc(axes)));
+                sh.transform
+                    .get_or_insert_with(Default::default)
+                    .scale_about_origin(s);
             }
             sh.major_radius = sh.major_radius.map(|r| r * s);
             sh.minor_radius = sh.minor_radius.map(|r| r * s);
@@ -435,16 +358,12 @@ impl Description {
         }
         // Placement files are not rewritten: only inline transforms scale.
         for t in d.instances.iter_mut().filter(|i| i.placements.is_none()) {
-            let t = t.transform.get_or_insert_with(Default::default);
-            t.translate = t.translate.map(sc);
-            let axes = t.scale.map_or([1.0; 3], ScaleDesc::axes);
-            t.scale = Some(ScaleDesc::Axes(sc(axes)));
+            t.transform
+                .get_or_insert_with(Default::default)
+                .scale_about_origin(s);
         }
         for l in &mut d.lights {
-            if let Some(p) = &mut l.position {
-                *p = sc(*p);
-                l.intensity *= s * s;
-            }
+            l.scale(s);
         }
         d
     }

@@ -1,0 +1,178 @@
+//! Reading images as linear float pixels for textures and environment maps: PNG and JPEG (8 and
+//! 16 bit, sRGB-decoded unless raw), OpenEXR and Radiance HDR, in grey, grey+alpha, RGB or RGBA.
+
+use crate::error::{Error, Location, Result};
+use image::{DynamicImage, ImageFormat};
+use std::path::Path;
+
+/// Pixels as f32, row-major with the top row first, `channels` interleaved values per pixel (1 grey,
+/// 2 grey+alpha, 3 RGB, 4 RGBA). Colour values are linear; alpha is never gamma-decoded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bitmap {
+    pub width: u32,
+    pub height: u32,
+    pub channels: u8,
+    pub data: Vec<f32>,
+}
+
+impl Bitmap {
+    /// The `channels` values of pixel (x, y), y counted from the top.
+    #[inline]
+    pub fn pixel(&self, x: u32, y: u32) -> &[f32] {
+        let c = self.channels as usize;
+        let i = (y as usize * self.width as usize + x as usize) * c;
+        &self.data[i..i + c]
+    }
+
+    /// Whether the last channel is alpha (grey+alpha or RGBA).
+    pub fn has_alpha(&self) -> bool {
+        self.channels == 2 || self.channels == 4
+    }
+}
+
+/// The sRGB transfer function inverted (IEC 61966-2-1): encoded value in [0, 1] to linear.
+pub fn srgb_to_linear(v: f32) -> f32 {
+    let v = v as f64;
+    let l = if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    };
+    l as f32
+}
+
+/// Reads `path`, recognised by its first bytes. 8- and 16-bit colour values are sRGB-decoded to
+/// linear unless `raw` (as Mitsuba's `bitmap` texture does unless its `raw` flag is set); float
+/// formats are linear already and `raw` does not change them.
+pub fn read_bitmap(path: &Path, raw: bool) -> Result<Bitmap> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bad = |message: String| Error::input(Location::file(path), message);
+    if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
+        return read_exr(&bytes).map_err(|m| bad(format!("not a readable OpenEXR image: {m}")));
+    }
+    let format = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+        ImageFormat::Png
+    } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
+        ImageFormat::Jpeg
+    } else if bytes.starts_with(b"#?") {
+        ImageFormat::Hdr
+    } else {
+        return Err(bad(
+            "not an image Appel reads (expected PNG, JPEG, OpenEXR or Radiance HDR)".into(),
+        ));
+    };
+    let image = image::load_from_memory_with_format(&bytes, format)
+        .map_err(|e| bad(format!("not a readable {format:?} image: {e}")))?;
+    Ok(from_dynamic(image, !raw))
+}
+
+/// Converts decoded pixels to linear floats; `decode_srgb` applies to 8- and 16-bit colour channels.
+fn from_dynamic(image: DynamicImage, decode_srgb: bool) -> Bitmap {
+    let (width, height) = (image.width(), image.height());
+    let (channels, data, integer): (u8, Vec<f32>, bool) = match image {
+        DynamicImage::ImageLuma8(b) => (1, unorm8(b.as_raw()), true),
+        DynamicImage::ImageLumaA8(b) => (2, unorm8(b.as_raw()), true),
+        DynamicImage::ImageRgb8(b) => (3, unorm8(b.as_raw()), true),
+        DynamicImage::ImageRgba8(b) => (4, unorm8(b.as_raw()), true),
+        DynamicImage::ImageLuma16(b) => (1, unorm16(b.as_raw()), true),
+        DynamicImage::ImageLumaA16(b) => (2, unorm16(b.as_raw()), true),
+        DynamicImage::ImageRgb16(b) => (3, unorm16(b.as_raw()), true),
+        DynamicImage::ImageRgba16(b) => (4, unorm16(b.as_raw()), true),
+        DynamicImage::ImageRgb32F(b) => (3, b.into_raw(), false),
+        DynamicImage::ImageRgba32F(b) => (4, b.into_raw(), false),
+        other => (4, other.into_rgba32f().into_raw(), false),
+    };
+    let mut bitmap = Bitmap {
+        width,
+        height,
+        channels,
+        data,
+    };
+    if integer && decode_srgb {
+        let c = channels as usize;
+        let colour = if bitmap.has_alpha() { c - 1 } else { c };
+        // The 8-bit case through a table: 256 values instead of one powf per sample.
+        let table: Vec<f32> = (0..256).map(|i| srgb_to_linear(i as f32 / 255.0)).collect();
+        for px in bitmap.data.chunks_mut(c) {
+            for v in &mut px[..colour] {
+                let code = *v * 255.0;
+                *v = if code == code.round() {
+                    table[code as usize]
+                } else {
+                    srgb_to_linear(*v)
+                };
+            }
+        }
+    }
+    bitmap
+}
+
+fn unorm8(v: &[u8]) -> Vec<f32> {
+    v.iter().map(|&x| x as f32 / 255.0).collect()
+}
+
+fn unorm16(v: &[u16]) -> Vec<f32> {
+    v.iter().map(|&x| x as f32 / 65535.0).collect()
+}
+
+/// The first layer of an EXR file: R, G, B (and A) or Y (and A), or a lone channel of any name
+/// read as grey. Channel names may carry a layer prefix (`diffuse.R`).
+fn read_exr(bytes: &[u8]) -> std::result::Result<Bitmap, String> {
+    use exr::prelude::*;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| e.to_string())?;
+    let layer = image.layer_data;
+    let (width, height) = (layer.size.width(), layer.size.height());
+    let channels = &layer.channel_data.list;
+    let find = |name: &str| {
+        channels.iter().find(|c| {
+            let full = c.name.to_string();
+            full.rsplit('.')
+                .next()
+                .unwrap_or("")
+                .eq_ignore_ascii_case(name)
+        })
+    };
+    let picked: Vec<&AnyChannel<FlatSamples>> = match (find("R"), find("G"), find("B"), find("Y")) {
+        (Some(r), Some(g), Some(b), _) => [Some(r), Some(g), Some(b), find("A")]
+            .into_iter()
+            .flatten()
+            .collect(),
+        (_, _, _, Some(y)) => [Some(y), find("A")].into_iter().flatten().collect(),
+        _ if channels.len() == 1 => vec![&channels[0]],
+        _ => {
+            let names: Vec<String> = channels.iter().map(|c| c.name.to_string()).collect();
+            return Err(format!(
+                "expected channels R, G, B or Y (and A), found {}",
+                names.join(", ")
+            ));
+        }
+    };
+    let n = width * height;
+    let c = picked.len();
+    let mut data = vec![0.0f32; n * c];
+    for (k, ch) in picked.iter().enumerate() {
+        if ch.sample_data.len() != n {
+            return Err(format!(
+                "channel {} has the wrong number of samples",
+                ch.name
+            ));
+        }
+        for (i, v) in ch.sample_data.values_as_f32().enumerate() {
+            data[i * c + k] = v;
+        }
+    }
+    let dim = |v: usize| u32::try_from(v).map_err(|_| "image too large".to_string());
+    Ok(Bitmap {
+        width: dim(width)?,
+        height: dim(height)?,
+        channels: c as u8,
+        data,
+    })
+}

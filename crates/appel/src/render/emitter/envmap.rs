@@ -1,0 +1,205 @@
+//! Mitsuba's `envmap` emitter: radiance from a latitude-longitude image at infinity.
+//!
+//! Conventions (Mitsuba 3, src/emitters/envmap.cpp): in the emitter's frame +y is up; a direction
+//! d has u = atan2(d.x, -d.z) / 2π and v = acos(d.y) / π. Rows are samples at the polar angles
+//! θ = π y / (height - 1), so the first row is the north pole and the last the south pole;
+//! columns are samples at u = (x + 1/2) / width, the image wrapping around in u. Radiance is the
+//! bilinear blend of the four samples around (u, v), times `scale`.
+//!
+//! Sampling: one piecewise-constant cell per bilinear patch (between two neighbouring rows and
+//! columns), weighted by the patch's mean luminance times its solid angle (which carries the sin θ
+//! of the lat-long map), and inside the patch uniformly in u and cos θ, so that the density in
+//! solid angle is constant over each patch and bounded at the poles. Mitsuba warps a bilinear
+//! density instead; both are unbiased and agree in expectation.
+
+use super::distribution::Distribution2D;
+use super::EmitterSample;
+use crate::error::{Error, Location, Result};
+use crate::io::bitmap_read::{read_bitmap, Bitmap};
+use crate::render::texture::luminance;
+use glam::{Mat3, Mat4, Vec2, Vec3};
+use std::f32::consts::PI;
+use std::path::Path;
+
+#[derive(Clone, Debug)]
+pub struct EnvMap {
+    /// Columns of the image; the stored rows have one more, a copy of the first (the wrap in u).
+    width: usize,
+    height: usize,
+    /// Linear RGB, `(width + 1) * height` samples, top row first.
+    texels: Vec<Vec3>,
+    pub scale: f32,
+    to_world: Mat3,
+    from_world: Mat3,
+    /// Over the `width` by `height - 1` patches.
+    distribution: Distribution2D,
+    /// cos θ of each row of samples.
+    row_cos: Vec<f32>,
+    /// Per row of patches: 1 / (the solid angle of one patch).
+    inv_patch_solid_angle: Vec<f32>,
+    /// ∫ L dω over the sphere, before `scale`.
+    radiance_integral: Vec3,
+    /// Radius of the scene's bounding sphere, through whose cross-section the power is counted.
+    pub scene_radius: f32,
+}
+
+impl EnvMap {
+    /// Reads a lat-long image (EXR, HDR, or an sRGB-decoded PNG or JPEG).
+    pub fn load(path: &Path, to_world: Mat4, scale: f32) -> Result<Self> {
+        let bitmap = read_bitmap(path, false)?;
+        Self::new(&bitmap, to_world, scale).map_err(|m| Error::input(Location::file(path), m))
+    }
+
+    /// `to_world` is used for its rotation only. Grey images are taken as grey RGB; alpha is
+    /// ignored. Mitsuba's minimum size, 2 by 3 pixels, applies.
+    pub fn new(bitmap: &Bitmap, to_world: Mat4, scale: f32) -> std::result::Result<Self, String> {
+        let (width, height) = (bitmap.width as usize, bitmap.height as usize);
+        if width < 2 || height < 3 {
+            return Err(format!(
+                "an environment map must be at least 2x3 pixels, this one is {width}x{height}"
+            ));
+        }
+        if !(1..=4).contains(&bitmap.channels) {
+            return Err(format!("unsupported channel count {}", bitmap.channels));
+        }
+        let padded = width + 1;
+        let mut texels = Vec::with_capacity(padded * height);
+        for y in 0..height as u32 {
+            let row_start = texels.len();
+            for x in 0..width as u32 {
+                let p = bitmap.pixel(x, y);
+                texels.push(if bitmap.channels <= 2 {
+                    Vec3::splat(p[0])
+                } else {
+                    Vec3::new(p[0], p[1], p[2])
+                });
+            }
+            texels.push(texels[row_start]);
+        }
+
+        let dtheta = PI / (height - 1) as f32;
+        let row_cos: Vec<f32> = (0..height).map(|y| (y as f32 * dtheta).cos()).collect();
+        let dphi = 2.0 * PI / width as f32;
+        // cos θj - cos θj+1 as a product of sines, which keeps its precision near the poles.
+        let patch_solid_angle: Vec<f32> = (0..height - 1)
+            .map(|j| {
+                let (a, b) = (j as f32 * dtheta, (j + 1) as f32 * dtheta);
+                dphi * 2.0 * (0.5 * (a + b)).sin() * (0.5 * (b - a)).sin()
+            })
+            .collect();
+        let mut weights = Vec::with_capacity(width * (height - 1));
+        let mut integral = [0.0f64; 3];
+        for (j, &omega) in patch_solid_angle.iter().enumerate() {
+            for i in 0..width {
+                let corners = [
+                    texels[j * padded + i],
+                    texels[j * padded + i + 1],
+                    texels[(j + 1) * padded + i],
+                    texels[(j + 1) * padded + i + 1],
+                ];
+                // The mean of the corners is the bilinear patch's mean over (u, v).
+                let mean = 0.25 * corners.iter().copied().sum::<Vec3>();
+                // Negative channels clamped, so that a weight is zero only where all radiance is.
+                weights.push(luminance(mean.max(Vec3::ZERO)) * omega);
+                for (s, c) in integral.iter_mut().zip(mean.to_array()) {
+                    *s += (c * omega) as f64;
+                }
+            }
+        }
+        let rot = Mat3::from_mat4(to_world);
+        Ok(Self {
+            width,
+            height,
+            texels,
+            scale,
+            to_world: rot,
+            from_world: rot.inverse(),
+            distribution: Distribution2D::new(&weights, width, height - 1),
+            row_cos,
+            inv_patch_solid_angle: patch_solid_angle.iter().map(|w| 1.0 / w).collect(),
+            radiance_integral: Vec3::new(
+                integral[0] as f32,
+                integral[1] as f32,
+                integral[2] as f32,
+            ),
+            scene_radius: 1.0,
+        })
+    }
+
+    /// Half a texel in u: where the first column's samples sit.
+    fn half_texel(&self) -> f32 {
+        0.5 / self.width as f32
+    }
+
+    /// Mitsuba's lat-long coordinates of a unit direction in the emitter's frame.
+    fn direction_to_uv(d: Vec3) -> Vec2 {
+        Vec2::new(
+            d.x.atan2(-d.z) * (0.5 / PI),
+            d.y.clamp(-1.0, 1.0).acos() * (1.0 / PI),
+        )
+    }
+
+    /// The bilinear lookup at lat-long `uv`, before `scale`.
+    fn lookup(&self, uv: Vec2) -> Vec3 {
+        let mut s = Vec2::new(uv.x - self.half_texel(), uv.y);
+        s -= s.floor();
+        s *= Vec2::new(self.width as f32, (self.height - 1) as f32);
+        let ix = (s.x as usize).min(self.width - 1);
+        let iy = (s.y as usize).min(self.height - 2);
+        let (wx, wy) = (s.x - ix as f32, s.y - iy as f32);
+        let padded = self.width + 1;
+        let i = iy * padded + ix;
+        let t = &self.texels;
+        let top = t[i] * (1.0 - wx) + t[i + 1] * wx;
+        let bottom = t[i + padded] * (1.0 - wx) + t[i + padded + 1] * wx;
+        top * (1.0 - wy) + bottom * wy
+    }
+
+    /// Radiance arriving along world direction `d` (toward the scene from -d's side of the sky).
+    pub fn radiance(&self, d: Vec3) -> Vec3 {
+        let local = (self.from_world * d).normalize_or_zero();
+        self.lookup(Self::direction_to_uv(local)) * self.scale
+    }
+
+    pub fn sample_li(&self, u: Vec2) -> Option<EmitterSample> {
+        let (x, [ix, iy]) = {
+            let (x, _, cell) = self.distribution.sample(u);
+            (x, cell)
+        };
+        let pmf = self.distribution.pmf_cell(ix, iy);
+        if !(pmf > 0.0) {
+            return None;
+        }
+        let fy = (x.y * (self.height - 1) as f32 - iy as f32).clamp(0.0, 1.0);
+        let cos_theta = self.row_cos[iy] + fy * (self.row_cos[iy + 1] - self.row_cos[iy]);
+        let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+        let uu = x.x + self.half_texel();
+        let phi = 2.0 * PI * uu;
+        let local = Vec3::new(phi.sin() * sin_theta, cos_theta, -phi.cos() * sin_theta);
+        let pdf = pmf * self.inv_patch_solid_angle[iy];
+        let uv = Vec2::new(uu, cos_theta.clamp(-1.0, 1.0).acos() / PI);
+        let wi = (self.to_world * local).normalize();
+        Some(EmitterSample {
+            wi,
+            dist: f32::INFINITY,
+            weight: self.lookup(uv) * self.scale / pdf,
+            pdf,
+            delta: false,
+        })
+    }
+
+    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+        let local = (self.from_world * wi).normalize_or_zero();
+        let uv = Self::direction_to_uv(local);
+        let mut su = uv.x - self.half_texel();
+        su -= su.floor();
+        let ix = ((su * self.width as f32) as usize).min(self.width - 1);
+        let iy = ((uv.y * (self.height - 1) as f32) as usize).min(self.height - 2);
+        self.distribution.pmf_cell(ix, iy) * self.inv_patch_solid_angle[iy]
+    }
+
+    /// The flux entering the scene's bounding sphere: Φ = π r² ∫ L dω.
+    pub fn power(&self) -> Vec3 {
+        PI * self.scene_radius * self.scene_radius * self.scale * self.radiance_integral
+    }
+}

@@ -1,0 +1,35 @@
+//! Mitsuba's `point` emitter: an isotropic point of radiant intensity.
+
+use super::EmitterSample;
+use glam::Vec3;
+use std::f32::consts::PI;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointLight {
+    pub position: Vec3,
+    /// Radiant intensity (W/sr per channel).
+    pub intensity: Vec3,
+}
+
+impl PointLight {
+    pub fn sample_li(&self, p: Vec3) -> Option<EmitterSample> {
+        let to = self.position - p;
+        let dist2 = to.length_squared();
+        if !(dist2 > 0.0) {
+            return None;
+        }
+        let dist = dist2.sqrt();
+        Some(EmitterSample {
+            wi: to / dist,
+            dist,
+            weight: self.intensity / dist2,
+            pdf: 1.0,
+            delta: true,
+        })
+    }
+
+    /// Φ = 4π I.
+    pub fn power(&self) -> Vec3 {
+        4.0 * PI * self.intensity
+    }
+}

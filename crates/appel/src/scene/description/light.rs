@@ -1,0 +1,114 @@
+//! `[[light]]`: emitters that are not surfaces (surfaces emit through a shape's `emitter` key).
+
+use super::{TransformDesc, Vec3f};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LightDesc {
+    /// Radiant intensity `color * intensity` (W/sr), falling off with the inverse square of the
+    /// distance.
+    Point {
+        position: Vec3f,
+        #[serde(default = "white")]
+        color: Vec3f,
+        #[serde(default = "unit")]
+        intensity: f32,
+    },
+    /// Parallel light travelling along `direction`, with irradiance `color * intensity` on a
+    /// surface facing it.
+    Directional {
+        direction: Vec3f,
+        #[serde(default = "white")]
+        color: Vec3f,
+        #[serde(default = "unit")]
+        intensity: f32,
+    },
+    /// A point light restricted to a cone around `position -> look_at` (Mitsuba's `spot`).
+    Spot {
+        position: Vec3f,
+        look_at: Vec3f,
+        #[serde(default = "white")]
+        color: Vec3f,
+        #[serde(default = "unit")]
+        intensity: f32,
+        /// Half-angle of the cone in degrees, outside of which no light leaves (20 by default).
+        #[serde(default = "default_cutoff")]
+        cutoff_angle: f32,
+        /// Half-angle in degrees of the inner cone of full intensity (3/4 of the cutoff by default).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        beam_width: Option<f32>,
+    },
+    /// Light of radiance `radiance` arriving from every direction (Mitsuba's `constant`).
+    Constant {
+        #[serde(default = "white")]
+        radiance: Vec3f,
+    },
+    /// A latitude-longitude environment map (EXR or HDR) around the scene (Mitsuba's `envmap`).
+    Envmap {
+        file: String,
+        #[serde(default = "unit")]
+        scale: f32,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        transform: Option<TransformDesc>,
+    },
+}
+
+impl LightDesc {
+    /// The point lights' positions, scaled by `s` with their intensity by `s^2` so that the
+    /// inverse-square falloff leaves the image unchanged (for [`super::Description::scaled`]).
+    pub fn scale(&mut self, s: f32) {
+        let sc = |v: &mut Vec3f| *v = v.map(|x| x * s);
+        match self {
+            LightDesc::Point {
+                position,
+                intensity,
+                ..
+            } => {
+                sc(position);
+                *intensity *= s * s;
+            }
+            LightDesc::Spot {
+                position,
+                look_at,
+                intensity,
+                ..
+            } => {
+                sc(position);
+                sc(look_at);
+                *intensity *= s * s;
+            }
+            LightDesc::Directional { .. }
+            | LightDesc::Constant { .. }
+            | LightDesc::Envmap { .. } => {}
+        }
+    }
+
+    pub fn kind(&self) -> &'static str {
+        match self {
+            LightDesc::Point { .. } => "point",
+            LightDesc::Directional { .. } => "directional",
+            LightDesc::Spot { .. } => "spot",
+            LightDesc::Constant { .. } => "constant",
+            LightDesc::Envmap { .. } => "envmap",
+        }
+    }
+}
+
+/// A shape's `emitter = { radiance = ... }`: the surface emits `radiance` from its front side
+/// (where the normal points), as Mitsuba's `area` emitter.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct AreaEmitterDesc {
+    pub radiance: super::TextureDesc,
+}
+
+fn white() -> Vec3f {
+    [1.0; 3]
+}
+fn unit() -> f32 {
+    1.0
+}
+fn default_cutoff() -> f32 {
+    20.0
+}

@@ -1,0 +1,192 @@
+//! `[render]` and the camera's closed sets of names: every name here is a serde enum, so an
+//! unknown one is a parse error at its line.
+
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RenderDesc {
+    #[serde(default)]
+    pub integrator: IntegratorName,
+    /// Whitted: the deepest recursion. Path and direct: Mitsuba's meaning, the most vertices of a
+    /// path (1: emitters seen directly; 2: direct light; -1: unlimited).
+    #[serde(default = "default_max_depth")]
+    pub max_depth: i32,
+    /// Path: the depth from which Russian roulette may end paths (Mitsuba's `rr_depth`).
+    #[serde(default = "default_rr_depth")]
+    pub rr_depth: u32,
+    /// Path and direct: emitters seen directly by the camera are black.
+    #[serde(default)]
+    pub hide_emitters: bool,
+    #[serde(default = "default_accel")]
+    pub accel: String,
+    /// Samples per pixel. Raycast and Whitted: 1 means exactly the pixel centre.
+    #[serde(default = "default_spp")]
+    pub spp: u32,
+    /// Path and direct: how samples are drawn.
+    #[serde(default)]
+    pub sampler: SamplerName,
+    /// Path and direct: another seed gives another (equally valid) noise pattern.
+    #[serde(default)]
+    pub seed: u64,
+    /// The reconstruction filter through which samples reach pixels.
+    #[serde(default)]
+    pub filter: FilterDesc,
+    /// Ray-triangle test: "watertight" or "moller".
+    #[serde(default = "default_triangle")]
+    pub triangle: String,
+    /// `[render.bvh]`: how the BVH is built, when `accel = "bvh"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bvh: Option<super::BvhDesc>,
+    /// `[render.grid]`: the uniform grid's resolution, when `accel = "grid"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<super::GridDesc>,
+    /// `[render.kdtree]`: the kd-tree's build parameters, when `accel = "kdtree"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kdtree: Option<super::KdTreeDesc>,
+}
+
+impl Default for RenderDesc {
+    fn default() -> Self {
+        Self {
+            integrator: IntegratorName::default(),
+            max_depth: default_max_depth(),
+            rr_depth: default_rr_depth(),
+            hide_emitters: false,
+            accel: default_accel(),
+            spp: default_spp(),
+            sampler: SamplerName::default(),
+            seed: 0,
+            filter: FilterDesc::default(),
+            triangle: default_triangle(),
+            bvh: None,
+            grid: None,
+            kdtree: None,
+        }
+    }
+}
+
+/// Which integrator renders the scene.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorName {
+    /// Appel 1968: the first hit, shaded locally, with shadow rays.
+    Raycast,
+    /// Whitted 1980: recursive specular reflection and refraction.
+    #[default]
+    Whitted,
+    /// Monte Carlo path tracing with next-event estimation and MIS.
+    Path,
+    /// Direct lighting only, with MIS.
+    Direct,
+}
+
+impl IntegratorName {
+    pub const NAMES: &'static [&'static str] = &["raycast", "whitted", "path", "direct"];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "raycast" => Some(Self::Raycast),
+            "whitted" => Some(Self::Whitted),
+            "path" => Some(Self::Path),
+            "direct" => Some(Self::Direct),
+            _ => None,
+        }
+    }
+
+    /// Whether the integrator samples light transport (and so reads the sampler and filter).
+    pub fn is_monte_carlo(self) -> bool {
+        matches!(self, Self::Path | Self::Direct)
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SamplerName {
+    /// Independent uniform numbers (PCG32).
+    #[default]
+    Independent,
+    /// Owen-scrambled Sobol points (low discrepancy).
+    Sobol,
+}
+
+impl SamplerName {
+    pub const NAMES: &'static [&'static str] = &["independent", "sobol"];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "independent" => Some(Self::Independent),
+            "sobol" => Some(Self::Sobol),
+            _ => None,
+        }
+    }
+}
+
+/// A pixel reconstruction filter, with Mitsuba's parameters and defaults.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum FilterDesc {
+    /// Each sample counts only in its own pixel.
+    Box {
+        #[serde(default = "half")]
+        radius: f32,
+    },
+    /// A triangle of radius `radius` pixels.
+    Tent {
+        #[serde(default = "one")]
+        radius: f32,
+    },
+    /// A Gaussian of standard deviation `stddev` pixels, cut at 4 standard deviations.
+    Gaussian {
+        #[serde(default = "half")]
+        stddev: f32,
+    },
+}
+
+impl Default for FilterDesc {
+    fn default() -> Self {
+        FilterDesc::Box { radius: 0.5 }
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum CameraKind {
+    #[default]
+    Perspective,
+    Orthographic,
+}
+
+/// The image axis a perspective camera's field of view spans (Mitsuba's `fov_axis`).
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum FovAxis {
+    X,
+    #[default]
+    Y,
+    Diagonal,
+    Smaller,
+    Larger,
+}
+
+fn half() -> f32 {
+    0.5
+}
+fn one() -> f32 {
+    1.0
+}
+fn default_max_depth() -> i32 {
+    5
+}
+fn default_rr_depth() -> u32 {
+    5
+}
+fn default_accel() -> String {
+    crate::accel::AccelKind::default().name().into()
+}
+fn default_spp() -> u32 {
+    1
+}
+fn default_triangle() -> String {
+    "watertight".into()
+}
