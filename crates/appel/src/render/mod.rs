@@ -78,7 +78,6 @@ impl RenderStats {
         self.invalid_samples += ctx.invalid_samples;
     }
 
-
     pub fn mrays_per_second(&self) -> f64 {
         self.rays.total() as f64 / self.time.as_secs_f64().max(1e-9) / 1e6
     }

@@ -198,7 +198,10 @@ mod tests {
         }
         // Density integrates to one (midpoint rule, exact for a step function on this grid).
         let m = 800;
-        let integral: f32 = (0..m).map(|k| d.pdf((k as f32 + 0.5) / m as f32)).sum::<f32>() / m as f32;
+        let integral: f32 = (0..m)
+            .map(|k| d.pdf((k as f32 + 0.5) / m as f32))
+            .sum::<f32>()
+            / m as f32;
         assert!((integral - 1.0).abs() < 1e-5, "{integral}");
         // Samples over 32 sub-bins (four per bin) against the density's mass there.
         let sub = 32;
@@ -222,7 +225,13 @@ mod tests {
     fn two_dimensional_sampling_matches_its_density() {
         let (nx, ny) = (5, 4);
         let weights: Vec<f32> = (0..nx * ny)
-            .map(|i| if i % 7 == 3 { 0.0 } else { 1.0 + (i * i % 11) as f32 })
+            .map(|i| {
+                if i % 7 == 3 {
+                    0.0
+                } else {
+                    1.0 + (i * i % 11) as f32
+                }
+            })
             .collect();
         let d = Distribution2D::new(&weights, nx, ny);
         let total: f32 = weights.iter().sum();
@@ -231,8 +240,15 @@ mod tests {
         for _ in 0..200_000 {
             let (p, pdf, [ix, iy]) = d.sample(rng.vec2());
             assert!((0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y));
-            assert!((pdf - d.pdf(p)).abs() <= 1e-5 * pdf, "{pdf} vs {}", d.pdf(p));
-            assert_eq!([ix, iy], [(p.x * nx as f32) as usize, (p.y * ny as f32) as usize]);
+            assert!(
+                (pdf - d.pdf(p)).abs() <= 1e-5 * pdf,
+                "{pdf} vs {}",
+                d.pdf(p)
+            );
+            assert_eq!(
+                [ix, iy],
+                [(p.x * nx as f32) as usize, (p.y * ny as f32) as usize]
+            );
             counts[iy * nx + ix] += 1.0;
         }
         let probs: Vec<f64> = weights.iter().map(|&w| (w / total) as f64).collect();
@@ -248,7 +264,10 @@ mod tests {
         let mut integral = 0.0;
         for a in 0..m {
             for b in 0..m {
-                integral += d.pdf(Vec2::new((a as f32 + 0.5) / m as f32, (b as f32 + 0.5) / m as f32));
+                integral += d.pdf(Vec2::new(
+                    (a as f32 + 0.5) / m as f32,
+                    (b as f32 + 0.5) / m as f32,
+                ));
             }
         }
         assert!((integral / (m * m) as f32 - 1.0).abs() < 1e-4);
