@@ -83,7 +83,7 @@ pub fn load_scene_with(
         let mut framed = frame_model(&description, scene.geometry.bounds());
         adjust(&mut framed)?;
         check(&framed)?;
-        scene.set_view(&framed);
+        scene.set_view(&framed)?;
     }
     Ok((scene, parse_time))
 }

@@ -23,7 +23,7 @@ fn main() {
         let d = model_description(path.file_name().unwrap().to_str().unwrap());
         let mut scene = Scene::new(&d, path.parent().unwrap()).expect("scene");
         let framed = frame_model(&d, scene.geometry.bounds());
-        scene.set_view(&framed);
+        scene.set_view(&framed)?;
         BenchTarget {
             name: args[0].clone(),
             geometry: scene.geometry,

@@ -132,7 +132,7 @@ fn framed_bunny_is_in_view() {
     let mut scene = Scene::new(&d, p.parent().unwrap()).unwrap();
     assert!(scene.geometry.triangle_count() > 60_000);
     let framed = frame_model(&d, scene.geometry.bounds());
-    scene.set_view(&framed);
+    scene.set_view(&framed).unwrap();
     let (film, _) = render(&scene, &RenderOptions::default()).unwrap();
     let hits = film.shape_id.iter().filter(|&&s| s != MISS_ID).count();
     let fraction = hits as f64 / film.shape_id.len() as f64;

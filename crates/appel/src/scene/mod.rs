@@ -1,9 +1,11 @@
 //! From a scene description to a scene ready to render: geometry, acceleration structure, materials,
 //! lights and camera.
 
+mod basic_meshes;
 pub mod builtin;
 mod camera;
 pub mod description;
+mod emitters;
 mod frame;
 mod geometry;
 mod instance;
@@ -14,10 +16,12 @@ mod memory;
 mod mesh_shape;
 pub mod parse;
 mod progress;
+mod textures;
 pub mod validate;
 
 pub use camera::Camera;
 pub use description::Description;
+pub use emitters::{SceneEmitters, NO_EMITTER};
 pub use frame::{frame_model, model_description};
 pub use geometry::{
     Geometry, PrimRef, PrimRefs, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE,
@@ -93,7 +97,10 @@ pub struct Scene {
     pub geometry: Geometry,
     pub accel: Accel,
     pub materials: Vec<Material>,
+    /// Whitted's lights.
     pub lights: Vec<Light>,
+    /// The Monte Carlo integrators' lights: every `[[light]]` and emitting surface.
+    pub emitters: SceneEmitters,
     pub background: Vec3,
     pub ambient: Vec3,
     pub timings: SceneTimings,
@@ -278,6 +285,22 @@ impl Scene {
                     let torus = Torus::new(c.into(), big, small, axis.into());
                     geometry.push(ShapeKind::Torus(torus), material);
                 }
+                "rectangle" | "cube" | "disk" => {
+                    let mesh = match s.kind.as_str() {
+                        "rectangle" => basic_meshes::rectangle(),
+                        "cube" => basic_meshes::cube(),
+                        _ => basic_meshes::disk(),
+                    };
+                    let m = s
+                        .transform
+                        .as_ref()
+                        .map_or(glam::Mat4::IDENTITY, |t| t.matrix());
+                    let mut mesh = basic_meshes::transformed(mesh, m);
+                    if s.flip_normals == Some(true) {
+                        basic_meshes::flip_normals(&mut mesh);
+                    }
+                    geometry.push_mesh(mesh, material);
+                }
                 "mesh" => {
                     let Some(file) = &s.file else {
                         return Err(Error::Invalid("a mesh needs a file".into()));
@@ -292,6 +315,18 @@ impl Scene {
                         &settings.accel_options,
                     )?;
                     steps.step(&format!("read {file}"))?;
+                    for shape in &geometry.shapes[first_new_shape..] {
+                        let ShapeKind::Mesh(m) = shape.kind else {
+                            continue;
+                        };
+                        let mesh = &mut geometry.meshes[m as usize];
+                        if s.face_normals == Some(true) {
+                            mesh.normals = None;
+                        }
+                        if s.flip_normals == Some(true) {
+                            basic_meshes::flip_normals(mesh);
+                        }
+                    }
                 }
                 other => return Err(Error::Invalid(format!("unknown shape type `{other}`"))),
             }
@@ -330,6 +365,8 @@ impl Scene {
         };
         let accel = Accel::build_with(top_level, &geometry, &settings.accel_options);
         let build = build_start.elapsed() + prototype_build;
+        let emitters =
+            SceneEmitters::build(d, &geometry, &mut textures::TextureCache::new(base_dir))?;
         steps.step("built the top-level structure")?;
         Ok(Scene {
             camera: Camera::new(&d.camera),
@@ -338,6 +375,7 @@ impl Scene {
             accel,
             materials,
             lights: d.lights.iter().filter_map(Light::new).collect(),
+            emitters,
             background: d.environment.background.into(),
             ambient: d.environment.ambient.into(),
             timings: SceneTimings { load, build },
@@ -383,11 +421,17 @@ impl Scene {
 
     /// Replaces the camera, lights and environment with those of `d` (geometry and settings stay):
     /// used to frame a bare mesh file once its bounds are known.
-    pub fn set_view(&mut self, d: &Description) {
+    pub fn set_view(&mut self, d: &Description) -> Result<()> {
         self.camera = Camera::new(&d.camera);
         self.lights = d.lights.iter().filter_map(Light::new).collect();
+        self.emitters = SceneEmitters::build(
+            d,
+            &self.geometry,
+            &mut textures::TextureCache::new(Path::new(".")),
+        )?;
         self.background = d.environment.background.into();
         self.ambient = d.environment.ambient.into();
+        Ok(())
     }
 
     pub fn material(&self, hit: &SceneHit) -> &Material {

@@ -1,0 +1,163 @@
+//! Mitsuba's parametric shapes as triangle meshes in their local frames: `rectangle` ([-1, 1]^2 at
+//! z = 0, facing +z), `cube` ([-1, 1]^3, faces outward) and `disk` (the unit disk at z = 0, facing
+//! +z). The rectangle and the cube are exact as meshes (Mitsuba's cube is one); the disk is a fan
+//! of `DISK_SEGMENTS` triangles whose area is within 0.01% of the circle's.
+
+use crate::geometry::TriangleMesh;
+use crate::math::{Vec2, Vec3};
+use glam::Mat4;
+
+pub const DISK_SEGMENTS: u32 = 256;
+
+/// uv as Mitsuba's rectangle: `((x + 1) / 2, (y + 1) / 2)`.
+pub fn rectangle() -> TriangleMesh {
+    let positions = vec![
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(-1.0, 1.0, 0.0),
+    ];
+    let uvs = positions
+        .iter()
+        .map(|p| Vec2::new(p.x * 0.5 + 0.5, p.y * 0.5 + 0.5))
+        .collect();
+    TriangleMesh {
+        positions,
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        normals: None,
+        uvs: Some(uvs),
+    }
+}
+
+/// Six faces of four vertices each (so that each face has its own uv square), wound outward.
+pub fn cube() -> TriangleMesh {
+    let mut positions = Vec::with_capacity(24);
+    let mut uvs = Vec::with_capacity(24);
+    let mut indices = Vec::with_capacity(12);
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let n = Vec3::from_array(std::array::from_fn(|i| if i == axis { sign } else { 0.0 }));
+            // Two tangents with t0 x t1 = n, so that counter-clockwise corners face outward.
+            let t0 = Vec3::from_array(std::array::from_fn(|i| {
+                if i == (axis + 1) % 3 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }));
+            let t1 = n.cross(t0);
+            let base = positions.len() as u32;
+            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                positions.push(n + a * t0 + b * t1);
+                uvs.push(Vec2::new(a * 0.5 + 0.5, b * 0.5 + 0.5));
+            }
+            indices.push([base, base + 1, base + 2]);
+            indices.push([base, base + 2, base + 3]);
+        }
+    }
+    TriangleMesh {
+        positions,
+        indices,
+        normals: None,
+        uvs: Some(uvs),
+    }
+}
+
+/// A fan around the centre; uv as Mitsuba's disk: (radius, angle / 2 pi).
+pub fn disk() -> TriangleMesh {
+    let n = DISK_SEGMENTS;
+    // The fan's vertices lie at a radius that gives the polygon the circle's area:
+    // n/2 r^2 sin(2 pi / n) = pi.
+    let step = std::f32::consts::TAU / n as f32;
+    let r = (std::f32::consts::PI / (0.5 * n as f32 * step.sin())).sqrt();
+    let mut positions = vec![Vec3::ZERO];
+    let mut uvs = vec![Vec2::ZERO];
+    for i in 0..n {
+        let phi = i as f32 * step;
+        positions.push(Vec3::new(r * phi.cos(), r * phi.sin(), 0.0));
+        uvs.push(Vec2::new(1.0, i as f32 / n as f32));
+    }
+    let indices = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
+    TriangleMesh {
+        positions,
+        indices,
+        normals: None,
+        uvs: Some(uvs),
+    }
+}
+
+/// The mesh moved by `m` (normals by its inverse transpose).
+pub fn transformed(mut mesh: TriangleMesh, m: Mat4) -> TriangleMesh {
+    for p in &mut mesh.positions {
+        *p = m.transform_point3(*p);
+    }
+    if let Some(normals) = &mut mesh.normals {
+        let nm = m.inverse().transpose();
+        for n in normals {
+            *n = nm.transform_vector3(*n).normalize_or_zero();
+        }
+    }
+    // A mirroring transform turns the winding, and so the geometric normal, inside out: wind
+    // the triangles back so that the front stays where the transformed +z (or outside) is.
+    if m.determinant() < 0.0 {
+        flip_winding(&mut mesh);
+    }
+    mesh
+}
+
+/// Turns the surface's front side around: reversed winding and negated vertex normals.
+pub fn flip_winding(mesh: &mut TriangleMesh) {
+    for t in &mut mesh.indices {
+        t.swap(1, 2);
+    }
+}
+
+/// [`flip_winding`] and the vertex normals negated.
+pub fn flip_normals(mesh: &mut TriangleMesh) {
+    flip_winding(mesh);
+    if let Some(normals) = &mut mesh.normals {
+        for n in normals {
+            *n = -*n;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn area_and_normal_sum(m: &TriangleMesh) -> (f32, Vec3) {
+        let mut area = 0.0;
+        let mut sum = Vec3::ZERO;
+        for t in 0..m.triangle_count() {
+            let [a, b, c] = m.vertices(t);
+            let n = (b - a).cross(c - a);
+            area += 0.5 * n.length();
+            sum += 0.5 * n;
+        }
+        (area, sum)
+    }
+
+    #[test]
+    fn shapes_have_mitsubas_areas_and_orientation() {
+        let (a, n) = area_and_normal_sum(&rectangle());
+        assert!((a - 4.0).abs() < 1e-6 && (n - Vec3::new(0.0, 0.0, 4.0)).length() < 1e-6);
+        let (a, n) = area_and_normal_sum(&disk());
+        assert!((a - std::f32::consts::PI).abs() < 1e-4 && n.z > 0.0);
+        let c = cube();
+        let (a, n) = area_and_normal_sum(&c);
+        assert!((a - 24.0).abs() < 1e-5 && n.length() < 1e-5);
+        // Outward: every face's normal points away from the centre.
+        for t in 0..c.triangle_count() {
+            let [p0, p1, p2] = c.vertices(t);
+            assert!((p1 - p0).cross(p2 - p0).dot(p0 + p1 + p2) > 0.0);
+        }
+    }
+
+    #[test]
+    fn a_mirroring_transform_keeps_the_front() {
+        let m = transformed(rectangle(), Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)));
+        let (_, n) = area_and_normal_sum(&m);
+        assert!(n.z > 0.0);
+    }
+}

@@ -1,0 +1,183 @@
+//! The scene's emitters for the Monte Carlo integrators: `[[light]]` entries and the surfaces with
+//! an `emitter`, the power-based choice among them, and which surface emits as which emitter.
+
+use super::description::{Description, LightDesc};
+use super::geometry::{Geometry, ShapeKind};
+use super::textures::TextureCache;
+use crate::error::{Error, Location, Result};
+use crate::render::emitter::{
+    AreaEmitter, ConstantEnvironment, DirectionalLight, Emitter, EnvMap, LightPicker, PointLight,
+    ShapeSampler, SpotLight,
+};
+use glam::{Mat4, Vec2, Vec3};
+
+/// [`SceneEmitters::of_shape`] of a surface that does not emit.
+pub const NO_EMITTER: u32 = u32::MAX;
+
+#[derive(Clone, Debug)]
+pub struct SceneEmitters {
+    pub emitters: Vec<Emitter>,
+    /// Chooses an emitter for next-event estimation in proportion to its power.
+    pub picker: LightPicker,
+    /// The emitter of each top-level surface (by `Geometry::shapes` index), or [`NO_EMITTER`].
+    pub of_shape: Vec<u32>,
+    /// The infinite emitters (environment), which rays leaving the scene see.
+    pub infinite: Vec<u32>,
+}
+
+impl SceneEmitters {
+    pub fn build(
+        d: &Description,
+        geometry: &Geometry,
+        textures: &mut TextureCache,
+    ) -> Result<Self> {
+        let mut emitters = Vec::new();
+        let mut of_shape = vec![NO_EMITTER; geometry.shapes.len()];
+        for (index, s) in d.shapes.iter().enumerate() {
+            let Some(e) = &s.emitter else { continue };
+            let radiance = textures.texture(&e.radiance)?;
+            // Every surface the `[[shape]]` became (a mesh file may be several) emits as one light.
+            let surfaces: Vec<usize> = (0..geometry.shapes.len())
+                .filter(|&i| geometry.shapes[i].source.shape == index as u32)
+                .collect();
+            let sampler = match surfaces.as_slice() {
+                [one] => match &geometry.shapes[*one].kind {
+                    ShapeKind::Sphere(sphere) => Some(ShapeSampler::Sphere {
+                        center: sphere.center,
+                        radius: sphere.radius,
+                    }),
+                    _ => None,
+                },
+                _ => None,
+            };
+            let sampler = match sampler {
+                Some(s) => s,
+                None => triangles_of(geometry, &surfaces).ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "shape[{index}] has an emitter but no surface area to emit from \
+                         (instanced meshes cannot emit)"
+                    ))
+                })?,
+            };
+            let id = emitters.len() as u32;
+            emitters.push(Emitter::Area(AreaEmitter::new(radiance, sampler)));
+            for i in surfaces {
+                of_shape[i] = id;
+            }
+        }
+        let mut infinite = Vec::new();
+        for l in &d.lights {
+            let e = match l {
+                LightDesc::Point {
+                    position,
+                    color,
+                    intensity,
+                } => Emitter::Point(PointLight {
+                    position: Vec3::from(*position),
+                    intensity: Vec3::from(*color) * *intensity,
+                }),
+                LightDesc::Directional {
+                    direction,
+                    color,
+                    intensity,
+                } => Emitter::Directional(DirectionalLight::new(
+                    Vec3::from(*direction).normalize(),
+                    Vec3::from(*color) * *intensity,
+                )),
+                LightDesc::Spot {
+                    position,
+                    look_at,
+                    color,
+                    intensity,
+                    cutoff_angle,
+                    beam_width,
+                } => {
+                    let eye = Vec3::from(*position);
+                    let dir = (Vec3::from(*look_at) - eye).normalize();
+                    let up = if dir.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
+                    // Mitsuba's spot looks down its local +z.
+                    let x = up.cross(dir).normalize();
+                    let to_world = Mat4::from_cols(
+                        x.extend(0.0),
+                        dir.cross(x).extend(0.0),
+                        dir.extend(0.0),
+                        eye.extend(1.0),
+                    );
+                    Emitter::Spot(SpotLight::new(
+                        to_world,
+                        Vec3::from(*color) * *intensity,
+                        *cutoff_angle,
+                        beam_width.unwrap_or(0.75 * cutoff_angle),
+                        None,
+                    ))
+                }
+                LightDesc::Constant { radiance } => {
+                    Emitter::Constant(ConstantEnvironment::new(Vec3::from(*radiance)))
+                }
+                LightDesc::Envmap {
+                    file,
+                    scale,
+                    transform,
+                } => {
+                    let bitmap = textures.image(file, true)?;
+                    let m = transform.as_ref().map_or(Mat4::IDENTITY, |t| t.matrix());
+                    Emitter::EnvMap(EnvMap::new(&bitmap, m, *scale).map_err(|e| {
+                        Error::input(Location::file(textures.path_of(file)), e.to_string())
+                    })?)
+                }
+            };
+            if e.is_infinite() {
+                infinite.push(emitters.len() as u32);
+            }
+            emitters.push(e);
+        }
+        let bounds = geometry.bounds();
+        let (center, radius) = if bounds.min.is_finite() && bounds.max.is_finite() {
+            let c = (bounds.min + bounds.max) * 0.5;
+            (c, (bounds.max - c).length().max(1e-3))
+        } else {
+            (Vec3::ZERO, 1.0)
+        };
+        for e in &mut emitters {
+            e.set_scene_bounds(center, radius);
+        }
+        let powers: Vec<f32> = emitters.iter().map(Emitter::power).collect();
+        Ok(Self {
+            picker: LightPicker::new(&powers),
+            emitters,
+            of_shape,
+            infinite,
+        })
+    }
+}
+
+/// The world-space triangles (with uvs where the meshes have them) of these mesh surfaces.
+fn triangles_of(geometry: &Geometry, surfaces: &[usize]) -> Option<ShapeSampler> {
+    let mut positions = Vec::new();
+    let mut uvs = Vec::new();
+    let mut all_uv = true;
+    for &s in surfaces {
+        let ShapeKind::Mesh(m) = geometry.shapes[s].kind else {
+            return None;
+        };
+        let mesh = &geometry.meshes[m as usize];
+        for (t, tri) in mesh.indices.iter().enumerate() {
+            positions.push(mesh.vertices(t));
+            match &mesh.uvs {
+                Some(uv) => uvs.push(tri.map(|i| uv[i as usize])),
+                None => {
+                    all_uv = false;
+                    uvs.push([Vec2::ZERO; 3]);
+                }
+            }
+        }
+    }
+    if positions.is_empty() {
+        return None;
+    }
+    Some(if all_uv {
+        ShapeSampler::triangles_with_uv(&positions, &uvs)
+    } else {
+        ShapeSampler::triangles(&positions)
+    })
+}
