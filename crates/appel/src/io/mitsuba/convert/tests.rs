@@ -422,3 +422,23 @@ fn defaults_of_a_minimal_scene_are_mitsubas() {
         "{radiance:?}"
     );
 }
+
+#[test]
+fn load_description_reads_xml_by_extension() {
+    let Some(path) = shared(&format!("{SCENES}/instancing/test_instancing_path.xml")) else {
+        return;
+    };
+    let loaded = crate::scene::load_description(&path).unwrap();
+    assert_eq!(loaded.description.instances.len(), 3);
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.xml");
+    std::fs::write(
+        &bad,
+        "<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n</scene>",
+    )
+    .unwrap();
+    let e = crate::scene::load_description(&bad)
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with(&format!("{}:3:", bad.display())), "{e}");
+}
