@@ -4,6 +4,7 @@
 pub mod bitmap_read;
 pub mod gltf;
 pub mod mesh_file;
+pub mod mitsuba;
 pub mod obj;
 pub mod placements;
 pub mod ply;

@@ -113,12 +113,15 @@ pub struct LoadedDescription {
     pub base_dir: PathBuf,
 }
 
-/// Reads and validates a scene file (TOML, or JSON by extension).
+/// Reads and validates a scene file (TOML, or JSON by extension, or a Mitsuba 3 `.xml`).
 pub fn load_description(path: &Path) -> Result<LoadedDescription> {
+    if is_xml(path) {
+        return load_xml_description(path, &crate::io::mitsuba::XmlOptions::default());
+    }
     let syntax = Syntax::from_path(path).ok_or_else(|| {
         Error::input(
             Location::file(path),
-            "unknown scene file extension: expected .toml or .json",
+            "unknown scene file extension: expected .toml, .json or .xml",
         )
     })?;
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
@@ -135,6 +138,40 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
         .unwrap_or_else(|| PathBuf::from("."));
     validate::files(&description, &base_dir)
         .map_err(|invalid| located(&invalid, &text, syntax, path))?;
+    Ok(LoadedDescription {
+        description,
+        base_dir,
+    })
+}
+
+fn is_xml(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("xml"))
+}
+
+/// Reads and validates a Mitsuba 3 scene file, with `-D name=value` parameters in `options`.
+/// Its file names come out absolute; problems only validation sees name the file and the
+/// description's key, as the converted description has no lines.
+pub fn load_xml_description(
+    path: &Path,
+    options: &crate::io::mitsuba::XmlOptions,
+) -> Result<LoadedDescription> {
+    let description = crate::io::mitsuba::load_xml(path, options)?;
+    let base_dir = path
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let at_file = |invalid: validate::Invalid| {
+        let message = format!(
+            "in the converted scene, {}: {}",
+            path_string(&invalid.path),
+            invalid.message
+        );
+        Error::input(Location::file(path), message)
+    };
+    validate::validate(&description).map_err(at_file)?;
+    validate::files(&description, &base_dir).map_err(at_file)?;
     Ok(LoadedDescription {
         description,
         base_dir,

@@ -1,0 +1,214 @@
+//! Shapes to `[[shape]]`; `shapegroup` and `instance` to `[meshes.NAME]` and `[[instance]]`.
+//! A shapegroup's meshes become declared meshes placed by each instance; its other shapes
+//! (spheres, rectangles...) cannot be declared meshes, so each instance adds them as shapes with
+//! the composed transform: the same image, but they count as shapes, not instances, in AOVs.
+
+use super::super::document::{Object, Target};
+use super::{columns, rows_f32, Converter, DEFAULT_MATERIAL};
+use crate::error::Result;
+use crate::scene::description::{InstanceDesc, MeshDesc, ShapeDesc, TransformDesc};
+use glam::{DMat4, DVec3};
+use std::rc::Rc;
+
+const SHAPES: &str = "obj, ply, sphere, rectangle, cube, disk, shapegroup, instance";
+
+/// A converted shapegroup.
+#[derive(Clone, Default)]
+pub(super) struct Group {
+    /// Declared meshes and where the group places them.
+    meshes: Vec<(String, DMat4)>,
+    /// Shapes added again by every instance.
+    others: Vec<Rc<Object>>,
+}
+
+impl Converter<'_> {
+    pub(super) fn shape(&mut self, s: &Rc<Object>) -> Result<()> {
+        match s.plugin.as_str() {
+            "shapegroup" => {
+                self.group(s)?;
+            }
+            "instance" => self.instance(s)?,
+            _ => {
+                let desc = self.shape_desc(s, DMat4::IDENTITY)?;
+                self.shapes.push(desc);
+            }
+        }
+        Ok(())
+    }
+
+    /// A shape that is not a group or an instance, placed by `parent` after its own `to_world`.
+    fn shape_desc(&mut self, s: &Object, parent: DMat4) -> Result<ShapeDesc> {
+        let to_world = parent * s.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
+        let placed = |m: DMat4| {
+            (m != DMat4::IDENTITY).then(|| TransformDesc {
+                matrix: Some(rows_f32(&m)),
+                ..TransformDesc::default()
+            })
+        };
+        let mut d = ShapeDesc {
+            kind: s.plugin.clone(),
+            ..ShapeDesc::default()
+        };
+        match s.plugin.as_str() {
+            "obj" | "ply" => {
+                d.kind = "mesh".into();
+                d.file = Some(self.file(s, "filename")?);
+                d.transform = placed(to_world);
+                d.face_normals = s.bool("face_normals")?;
+            }
+            "sphere" => {
+                let center = DVec3::from(s.vector("center")?.unwrap_or([0.0; 3]));
+                let radius = s.float_or("radius", 1.0)?;
+                let scale = similarity_scale(&to_world).ok_or_else(|| {
+                    s.error("a sphere's to_world may only rotate, translate and scale uniformly")
+                })?;
+                d.center = Some(super::f32s(to_world.transform_point3(center)));
+                d.radius = Some((radius * scale) as f32);
+            }
+            "rectangle" | "cube" | "disk" => d.transform = placed(to_world),
+            "serialized" => {
+                return Err(s.error(
+                    "Mitsuba's serialized meshes are not supported: convert the mesh to PLY or OBJ",
+                ))
+            }
+            p => {
+                return Err(s.error(format!(
+                    "unsupported shape plugin \"{p}\" (supported: {SHAPES})"
+                )))
+            }
+        }
+        d.flip_normals = s.bool("flip_normals")?;
+        let (material, emitter) = self.shape_children(s)?;
+        d.material = Some(material);
+        if let Some(e) = emitter {
+            d.emitter = Some(self.area_emitter(&e)?);
+        }
+        s.finish()?;
+        Ok(d)
+    }
+
+    /// The shape's material name (Mitsuba's default diffuse if it has no BSDF) and its emitter.
+    fn shape_children(&mut self, s: &Object) -> Result<(String, Option<Rc<Object>>)> {
+        let mut material = None;
+        let mut emitter = None;
+        let children: Vec<_> = s.unnamed_children().collect();
+        for child in children {
+            let o = self.doc.target(child)?;
+            match o.class.as_str() {
+                "bsdf" if material.is_some() => {
+                    return Err(o.error("a shape has one BSDF"));
+                }
+                "bsdf" => material = Some(self.material(&o)?),
+                "emitter" if emitter.is_some() => {
+                    return Err(o.error("a shape has one emitter"));
+                }
+                "emitter" => emitter = Some(o),
+                _ => continue,
+            }
+            s.take(child);
+        }
+        Ok((material.unwrap_or_else(|| DEFAULT_MATERIAL.into()), emitter))
+    }
+
+    /// Converts a shapegroup once; later calls return the same group.
+    fn group(&mut self, g: &Rc<Object>) -> Result<Group> {
+        if let Some(group) = self.groups.get(&Rc::as_ptr(g)) {
+            return Ok(group.clone());
+        }
+        let base = g.id.clone().unwrap_or_else(|| "shapegroup".into());
+        let mut group = Group::default();
+        let children: Vec<_> = g.unnamed_children().collect();
+        for child in children {
+            let s = self.doc.target(child)?;
+            if s.class != "shape" {
+                continue;
+            }
+            g.take(child);
+            match s.plugin.as_str() {
+                "obj" | "ply" => {
+                    let file = self.file(&s, "filename")?;
+                    let to_world = s.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
+                    let (material, emitter) = self.shape_children(&s)?;
+                    if let Some(e) = emitter {
+                        return Err(e.error("emitters inside a shapegroup are not supported"));
+                    }
+                    for unsupported in ["face_normals", "flip_normals"] {
+                        if let Some(p) = s.prop(unsupported) {
+                            return Err(p.error("not supported on a mesh inside a shapegroup"));
+                        }
+                    }
+                    s.finish()?;
+                    let mut name = format!("{base}_{}", group.meshes.len());
+                    while self.meshes.contains_key(&name) {
+                        name.push('_');
+                    }
+                    self.meshes.insert(
+                        name.clone(),
+                        MeshDesc {
+                            file,
+                            material: Some(material),
+                        },
+                    );
+                    group.meshes.push((name, to_world));
+                }
+                "shapegroup" | "instance" => {
+                    return Err(s.error("shapegroups cannot nest groups or instances"))
+                }
+                _ => {
+                    // Checked now, added per instance.
+                    self.shape_desc(&s, DMat4::IDENTITY)?;
+                    group.others.push(s);
+                }
+            }
+        }
+        g.finish()?;
+        self.groups.insert(Rc::as_ptr(g), group.clone());
+        Ok(group)
+    }
+
+    fn instance(&mut self, i: &Object) -> Result<()> {
+        let to_world = i.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
+        let mut groups = Vec::new();
+        for child in i.unnamed_children() {
+            let g = self.doc.target(child)?;
+            if g.class == "shape" && g.plugin == "shapegroup" {
+                i.take(child);
+                groups.push((g, matches!(child.target, Target::Ref(_))));
+            }
+        }
+        let [(g, _)] = groups.as_slice() else {
+            return Err(i.error("an instance needs exactly one shapegroup (usually a <ref>)"));
+        };
+        let group = self.group(g)?;
+        for (mesh, placed) in &group.meshes {
+            self.instances.push(InstanceDesc {
+                mesh: mesh.clone(),
+                transform: Some(TransformDesc {
+                    matrix: Some(rows_f32(&(to_world * *placed))),
+                    ..TransformDesc::default()
+                }),
+                placements: None,
+            });
+        }
+        for s in &group.others {
+            let desc = self.shape_desc(s, to_world)?;
+            self.shapes.push(desc);
+        }
+        i.finish()
+    }
+}
+
+/// `s` if the linear part of `m` is `s` times a rotation (or reflection), within rounding.
+fn similarity_scale(m: &DMat4) -> Option<f64> {
+    let (_, x, y, z) = columns(m);
+    let s = x.length();
+    let tol = 1e-5 * s;
+    let ok = s > 0.0
+        && (y.length() - s).abs() <= tol
+        && (z.length() - s).abs() <= tol
+        && x.dot(y).abs() <= tol * s
+        && y.dot(z).abs() <= tol * s
+        && x.dot(z).abs() <= tol * s
+        && m.row(3) == glam::DVec4::W;
+    ok.then_some(s)
+}
