@@ -14,11 +14,19 @@ pub struct Aovs {
     pub shape_id: bool,
     pub prim_id: bool,
     pub instance_id: bool,
+    /// Monte Carlo renders: the variance of each pixel's estimate (`variance.R/G/B`).
+    pub variance: bool,
 }
 
 impl Aovs {
-    pub const NAMES: &'static [&'static str] =
-        &["depth", "normal", "shapeid", "primid", "instanceid"];
+    pub const NAMES: &'static [&'static str] = &[
+        "depth",
+        "normal",
+        "shapeid",
+        "primid",
+        "instanceid",
+        "variance",
+    ];
 
     /// Parses a comma-separated list such as `depth,normal,primid`. `primid` brings `shapeid` with it,
     /// since a primitive index means nothing without its shape.
@@ -34,6 +42,7 @@ impl Aovs {
                     a.shape_id = true;
                 }
                 "instanceid" => a.instance_id = true,
+                "variance" => a.variance = true,
                 other => {
                     return Err(format!(
                         "unknown AOV `{other}`, expected a comma-separated list of: {}",
@@ -46,7 +55,12 @@ impl Aovs {
     }
 
     pub fn any(&self) -> bool {
-        self.depth || self.normal || self.shape_id || self.prim_id || self.instance_id
+        self.depth
+            || self.normal
+            || self.shape_id
+            || self.prim_id
+            || self.instance_id
+            || self.variance
     }
 }
 
@@ -162,6 +176,16 @@ pub fn write_exr(path: &Path, film: &Film, aovs: Aovs) -> Result<()> {
             "instanceid",
             FlatSamples::U32(film.instance_id.clone()),
         ));
+    }
+    if aovs.variance {
+        if film.variance.len() != film.rgb.len() {
+            return Err(Error::Invalid(
+                "the variance AOV needs a Monte Carlo integrator (path or direct)".into(),
+            ));
+        }
+        channels.push(AnyChannel::new("variance.R", f32s(&|i| film.variance[i].x)));
+        channels.push(AnyChannel::new("variance.G", f32s(&|i| film.variance[i].y)));
+        channels.push(AnyChannel::new("variance.B", f32s(&|i| film.variance[i].z)));
     }
     let layer = Layer::new(
         (film.width as usize, film.height as usize),

@@ -5,6 +5,7 @@ pub mod film_block;
 pub mod filter;
 pub mod integrator;
 pub mod optics;
+pub mod path;
 pub mod progressive;
 pub mod sampler;
 
@@ -16,6 +17,7 @@ use crate::accel::TraversalStats;
 use crate::error::{Error, Result};
 use crate::math::Ray;
 use crate::math::Vec3;
+use crate::scene::description::SamplerName;
 use crate::scene::SceneHit;
 use crate::scene::{IntegratorKind, Scene};
 use rayon::prelude::*;
@@ -105,14 +107,61 @@ fn sample_offset(s: u32) -> (f32, f32) {
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
     match scene.settings.integrator {
         IntegratorKind::Raycast => render_with(scene, &Raycast, options),
-        IntegratorKind::Path | IntegratorKind::Direct => Err(Error::Invalid(
-            "the path and direct integrators are not built into this version".into(),
-        )),
+        IntegratorKind::Path => render_monte_carlo(
+            scene,
+            &path::PathTracer::new(
+                scene.settings.max_depth,
+                scene.settings.rr_depth,
+                scene.settings.hide_emitters,
+            ),
+            options,
+        ),
+        IntegratorKind::Direct => render_monte_carlo(
+            scene,
+            &path::PathTracer::direct(scene.settings.hide_emitters),
+            options,
+        ),
         IntegratorKind::Whitted => render_with(
             scene,
             &Whitted {
                 max_depth: scene.settings.max_depth.max(0) as u32,
             },
+            options,
+        ),
+    }
+}
+
+/// A Monte Carlo integrator over the scene's sampler and filter, monomorphized for each.
+fn render_monte_carlo<I: progressive::SampleIntegrator>(
+    scene: &Scene,
+    integrator: &I,
+    options: &RenderOptions,
+) -> Result<(Film, RenderStats)> {
+    let s = &scene.settings;
+    let p = progressive::Progressive {
+        filter: filter::Filter::new(&s.filter),
+        spp: s.spp,
+        // With a time limit, passes of 1/16 of the samples (at least one) let the render stop
+        // near the limit; without one, a single pass.
+        pass_spp: if options.time_limit.is_some() {
+            (s.spp / 16).max(1)
+        } else {
+            s.spp
+        },
+    };
+    match s.sampler {
+        SamplerName::Independent => progressive::render_progressive(
+            scene,
+            integrator,
+            &sampler::IndependentSampler::new(s.seed),
+            &p,
+            options,
+        ),
+        SamplerName::Sobol => progressive::render_progressive(
+            scene,
+            integrator,
+            &sampler::SobolSampler::new(s.seed, s.spp),
+            &p,
             options,
         ),
     }

@@ -16,6 +16,7 @@ mod memory;
 mod mesh_shape;
 pub mod parse;
 mod progress;
+mod shading_materials;
 mod textures;
 pub mod validate;
 
@@ -49,7 +50,12 @@ pub use description::IntegratorName as IntegratorKind;
 pub struct RenderSettings {
     pub integrator: IntegratorKind,
     pub max_depth: i32,
+    pub rr_depth: u32,
+    pub hide_emitters: bool,
     pub spp: u32,
+    pub sampler: description::SamplerName,
+    pub seed: u64,
+    pub filter: description::FilterDesc,
     pub accel: AccelKind,
     /// `[render.bvh]`, `[render.grid]`, `[render.kdtree]`.
     pub accel_options: AccelOptions,
@@ -97,6 +103,10 @@ pub struct Scene {
     pub geometry: Geometry,
     pub accel: Accel,
     pub materials: Vec<Material>,
+    /// The Monte Carlo integrators' materials, indexed as `materials`.
+    pub shading_materials: Vec<crate::shading::material::Material>,
+    /// Whether any material is a mask (cut-outs), which rays must then step through.
+    pub has_masks: bool,
     /// Whitted's lights.
     pub lights: Vec<Light>,
     /// The Monte Carlo integrators' lights: every `[[light]]` and emitting surface.
@@ -237,7 +247,12 @@ impl Scene {
         let settings = RenderSettings {
             integrator: d.render.integrator,
             max_depth: d.render.max_depth,
+            rr_depth: d.render.rr_depth,
+            hide_emitters: d.render.hide_emitters,
             spp: d.render.spp,
+            sampler: d.render.sampler,
+            seed: d.render.seed,
+            filter: d.render.filter,
             accel: AccelKind::from_name(&d.render.accel).ok_or_else(|| {
                 Error::Invalid(format!(
                     "unknown acceleration structure `{}`",
@@ -402,8 +417,10 @@ impl Scene {
         };
         let accel = Accel::build_with(top_level, &geometry, &settings.accel_options);
         let build = build_start.elapsed() + prototype_build;
-        let emitters =
-            SceneEmitters::build(d, &geometry, &mut textures::TextureCache::new(base_dir))?;
+        let mut textures = textures::TextureCache::new(base_dir);
+        let emitters = SceneEmitters::build(d, &geometry, &mut textures)?;
+        let shading_materials = shading_materials::build(d, &materials, &mut textures)?;
+        let has_masks = shading_materials.iter().any(|m| m.has_mask());
         steps.step("built the top-level structure")?;
         Ok(Scene {
             camera: Camera::new(&d.camera),
@@ -413,6 +430,8 @@ impl Scene {
             materials,
             lights: d.lights.iter().filter_map(Light::new).collect(),
             emitters,
+            shading_materials,
+            has_masks,
             background: d.environment.background.into(),
             ambient: d.environment.ambient.into(),
             timings: SceneTimings { load, build },

@@ -7,5 +7,6 @@ pub mod bsdf;
 pub(crate) mod chi2;
 pub mod emitter;
 pub mod frame;
+pub mod material;
 pub mod spectra;
 pub mod texture;

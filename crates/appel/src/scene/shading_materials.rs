@@ -1,0 +1,233 @@
+//! The Monte Carlo integrators' materials, one per entry of the scene's (Whitted) material list and
+//! in the same order: described materials as written, Whitted's (the default, mesh files' MTL and
+//! glTF materials, `type = "whitted"`) by their physically based equivalent.
+
+use super::description::{Description, DistributionDesc, IorDesc, MaterialDesc, TextureDesc};
+use super::textures::TextureCache;
+use super::Material as WhittedMaterial;
+use crate::error::{Error, Result};
+use crate::shading::bsdf::{MicrofacetKind, PlasticParams, RoughPlasticParams};
+use crate::shading::material::{Material, Roughness};
+use crate::shading::spectra;
+use crate::shading::texture::{Checkerboard, Texture};
+use glam::{Mat3, Vec2, Vec3};
+
+/// Mitsuba's default roughness.
+const DEFAULT_ALPHA: f32 = 0.1;
+
+pub fn build(
+    d: &Description,
+    whitted: &[WhittedMaterial],
+    textures: &mut TextureCache,
+) -> Result<Vec<Material>> {
+    let names: Vec<&String> = d.materials.keys().collect();
+    let index = |name: &str| {
+        names
+            .iter()
+            .position(|n| n.as_str() == name)
+            .map_or(0, |i| i as u32 + 1)
+    };
+    let mut out = Vec::with_capacity(whitted.len());
+    out.push(from_whitted(&whitted[0]));
+    for (name, m) in &d.materials {
+        out.push(
+            from_description(m, &index, textures)
+                .map_err(|e| Error::Invalid(format!("material `{name}`: {e}")))?,
+        );
+    }
+    out.extend(whitted[out.len()..].iter().map(from_whitted));
+    Ok(out)
+}
+
+fn from_description(
+    m: &MaterialDesc,
+    index: &dyn Fn(&str) -> u32,
+    textures: &mut TextureCache,
+) -> Result<Material> {
+    let mut tex = |t: &TextureDesc| textures.texture(t);
+    Ok(match m {
+        MaterialDesc::Whitted(w) => from_whitted(&WhittedMaterial::new(w)),
+        MaterialDesc::Diffuse(x) => Material::Diffuse {
+            reflectance: tex(&x.reflectance)?,
+        },
+        MaterialDesc::Conductor(x) => {
+            let (eta, k) = conductor(x.material.as_deref(), x.eta, x.k)?;
+            Material::Conductor {
+                eta,
+                k,
+                specular: tex(&x.specular_reflectance)?,
+            }
+        }
+        MaterialDesc::RoughConductor(x) => {
+            let (eta, k) = conductor(x.material.as_deref(), x.eta, x.k)?;
+            Material::RoughConductor {
+                roughness: Roughness {
+                    kind: kind(x.distribution),
+                    alpha_u: tex(x.alpha_u.as_ref().or(x.alpha.as_ref()).unwrap_or(&alpha0()))?,
+                    alpha_v: tex(x.alpha_v.as_ref().or(x.alpha.as_ref()).unwrap_or(&alpha0()))?,
+                    sample_visible: x.sample_visible,
+                },
+                eta,
+                k,
+                specular: tex(&x.specular_reflectance)?,
+            }
+        }
+        MaterialDesc::Dielectric(x) => Material::Dielectric {
+            eta: ior(&x.int_ior)? / ior(&x.ext_ior)?,
+            reflectance: tex(&x.specular_reflectance)?,
+            transmittance: tex(&x.specular_transmittance)?,
+        },
+        MaterialDesc::ThinDielectric(x) => Material::ThinDielectric {
+            eta: ior(&x.int_ior)? / ior(&x.ext_ior)?,
+            reflectance: tex(&x.specular_reflectance)?,
+            transmittance: tex(&x.specular_transmittance)?,
+        },
+        MaterialDesc::RoughDielectric(x) => Material::RoughDielectric {
+            roughness: Roughness {
+                kind: kind(x.distribution),
+                alpha_u: tex(x.alpha_u.as_ref().or(x.alpha.as_ref()).unwrap_or(&alpha0()))?,
+                alpha_v: tex(x.alpha_v.as_ref().or(x.alpha.as_ref()).unwrap_or(&alpha0()))?,
+                sample_visible: x.sample_visible,
+            },
+            eta: ior(&x.int_ior)? / ior(&x.ext_ior)?,
+            reflectance: tex(&x.specular_reflectance)?,
+            transmittance: tex(&x.specular_transmittance)?,
+        },
+        MaterialDesc::Plastic(x) => {
+            let (diffuse, specular) = (tex(&x.diffuse_reflectance)?, tex(&x.specular_reflectance)?);
+            Material::Plastic {
+                params: PlasticParams::precompute(
+                    ior(&x.int_ior)? / ior(&x.ext_ior)?,
+                    x.nonlinear,
+                    mean(&diffuse),
+                    mean(&specular),
+                ),
+                diffuse,
+                specular,
+            }
+        }
+        MaterialDesc::RoughPlastic(x) => {
+            let (diffuse, specular) = (tex(&x.diffuse_reflectance)?, tex(&x.specular_reflectance)?);
+            // The coating's precomputed albedo depends on the roughness: it must be a constant
+            // (as Mitsuba requires).
+            let alpha = match x.alpha.as_ref().or(x.alpha_u.as_ref()) {
+                None => DEFAULT_ALPHA,
+                Some(TextureDesc::Value(a)) => *a,
+                Some(_) => {
+                    return Err(Error::Invalid(
+                        "a rough plastic's `alpha` must be a number: its coating's albedo is \
+                         precomputed for one roughness"
+                            .into(),
+                    ))
+                }
+            };
+            let distribution = crate::shading::bsdf::Microfacet::new(
+                kind(x.distribution),
+                alpha,
+                alpha,
+                x.sample_visible,
+            );
+            Material::RoughPlastic {
+                params: RoughPlasticParams::precompute(
+                    distribution,
+                    ior(&x.int_ior)? / ior(&x.ext_ior)?,
+                    x.nonlinear,
+                    mean(&diffuse),
+                    mean(&specular),
+                ),
+                diffuse,
+                specular,
+            }
+        }
+        MaterialDesc::TwoSided(t) => Material::TwoSided {
+            front: index(&t.front),
+            back: index(t.back.as_deref().unwrap_or(&t.front)),
+        },
+        MaterialDesc::Mask(x) => Material::Mask {
+            opacity: tex(&x.opacity)?,
+            inner: index(&x.material),
+        },
+    })
+}
+
+/// Whitted's model by its nearest physically based material: a transparent one as glass of its
+/// index, a mostly reflecting one as a mirror of its reflection coefficient, anything else as
+/// Lambertian of its diffuse colour (checkerboards included).
+fn from_whitted(w: &WhittedMaterial) -> Material {
+    if w.transmission > 0.0 {
+        return Material::Dielectric {
+            eta: w.ior,
+            reflectance: Texture::Constant(Vec3::ONE),
+            transmittance: Texture::Constant(Vec3::splat(w.transmission.min(1.0))),
+        };
+    }
+    if w.reflection >= 0.5 {
+        return Material::Conductor {
+            eta: Vec3::ZERO,
+            k: Vec3::ONE,
+            specular: Texture::Constant(Vec3::splat(w.reflection.min(1.0))),
+        };
+    }
+    let albedo = |c: Vec3| (c * w.diffuse).clamp(Vec3::ZERO, Vec3::ONE);
+    let reflectance = match w.checker {
+        // Whitted's squares of side `size` alternate with the parity of floor(u/size) +
+        // floor(v/size); Mitsuba's checkerboard has squares of 1/2: scale uv by 1/(2 size).
+        Some(c) => Texture::Checkerboard(Checkerboard {
+            color0: albedo(w.color),
+            color1: albedo(c.color),
+            to_uv: Mat3::from_scale(Vec2::splat(0.5 / c.size)),
+        }),
+        None => Texture::Constant(albedo(w.color)),
+    };
+    Material::Diffuse { reflectance }
+}
+
+fn ior(i: &IorDesc) -> Result<f32> {
+    match i {
+        IorDesc::Value(v) if v.is_finite() && *v > 0.0 => Ok(*v),
+        IorDesc::Value(v) => Err(Error::Invalid(format!(
+            "an index of refraction must be positive, got {v}"
+        ))),
+        IorDesc::Named(n) => spectra::ior(n).ok_or_else(|| {
+            Error::Invalid(format!(
+                "unknown index of refraction `{n}`, expected a number or one of: {}",
+                spectra::IOR_NAMES.join(", ")
+            ))
+        }),
+    }
+}
+
+fn conductor(
+    material: Option<&str>,
+    eta: Option<[f32; 3]>,
+    k: Option<[f32; 3]>,
+) -> Result<(Vec3, Vec3)> {
+    if let (Some(eta), Some(k)) = (eta, k) {
+        return Ok((eta.into(), k.into()));
+    }
+    let name = material.unwrap_or(spectra::NO_CONDUCTOR);
+    let (e, kk) = spectra::conductor(name).ok_or_else(|| {
+        Error::Invalid(format!(
+            "unknown conductor `{name}`, expected one of: {}",
+            spectra::CONDUCTOR_NAMES.join(", ")
+        ))
+    })?;
+    Ok((eta.map_or(e, Vec3::from), k.map_or(kk, Vec3::from)))
+}
+
+fn kind(d: DistributionDesc) -> MicrofacetKind {
+    match d {
+        DistributionDesc::Beckmann => MicrofacetKind::Beckmann,
+        DistributionDesc::Ggx => MicrofacetKind::Ggx,
+    }
+}
+
+fn alpha0() -> TextureDesc {
+    TextureDesc::Value(DEFAULT_ALPHA)
+}
+
+/// The channel mean of a texture's mean, as Mitsuba's `Texture::mean` for lobe weights.
+fn mean(t: &Texture) -> f32 {
+    let m = t.mean();
+    (m.x + m.y + m.z) / 3.0
+}
