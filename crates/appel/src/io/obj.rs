@@ -171,7 +171,12 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
         match keyword {
             "v" => v.push(numbers::<3>(&args, 3, path, line, "v")?.into()),
             "vn" => vn.push(numbers::<3>(&args, 3, path, line, "vn")?.into()),
-            "vt" => vt.push(numbers::<2>(&args, 1, path, line, "vt")?.into()),
+            // OBJ's v grows upwards from the image's bottom row; Appel's textures (as Mitsuba's and
+            // glTF's) put v = 0 at the top row, so v is flipped here, as Mitsuba's OBJ reader does.
+            "vt" => {
+                let [u, v] = numbers::<2>(&args, 1, path, line, "vt")?;
+                vt.push(Vec2::new(u, 1.0 - v));
+            }
             "f" => {
                 if args.len() < 3 {
                     return Err(line_error(

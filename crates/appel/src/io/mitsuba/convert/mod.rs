@@ -168,12 +168,14 @@ impl Converter<'_> {
                 let (fov, axis) = match s.float("fov")? {
                     Some(f) => (f, s.string("fov_axis")?.unwrap_or("x")),
                     None => {
-                        // Mitsuba's default: a 50 mm lens on 36 mm film, across x.
+                        // Mitsuba's default: a 50 mm lens on 36 x 24 mm film, whose field of view
+                        // spans the film's diagonal.
                         if s.prop("focal_length").is_some() {
                             let p = s.prop("focal_length").expect("present");
                             return Err(p.error("give the field of view as <float name=\"fov\">"));
                         }
-                        (2.0 * (18.0f64 / 50.0).atan().to_degrees(), "x")
+                        let diagonal = 36.0f64.hypot(24.0);
+                        (2.0 * (diagonal / 100.0).atan().to_degrees(), "diagonal")
                     }
                 };
                 if !(fov > 0.0 && fov < 180.0) {

@@ -1,0 +1,120 @@
+//! Mitsuba 3's regression scenes and the Cornell box, rendered from their own XML files and
+//! compared with their reference images (see `reference/mod.rs` for the statistics).
+
+mod reference;
+
+use reference::{compare, reference, render_xml, shared, Setup};
+
+fn check(scene: &str, reference_exr: &str, setup: Setup) {
+    let (Some(scene), Some(ref_path)) = (shared(scene), shared(reference_exr)) else {
+        return;
+    };
+    let film = render_xml(&scene, &setup);
+    let r = reference(&ref_path, film.width, film.height);
+    let c = compare(&film, &r);
+    eprintln!("{}: {c:?}", scene.display());
+    assert!(c.passes(), "{}: {c:?}", scene.display());
+}
+
+const SPHERES: &str = "mitsuba-data/tests/scenes/bsdf_spheres";
+
+fn sphere_test(name: &str, spp: u32) {
+    check(
+        &format!("{SPHERES}/test_{name}_path.xml"),
+        &format!("{SPHERES}/refs/test_{name}_ref_rgb.exr"),
+        Setup { spp, block: 1 },
+    );
+}
+
+#[test]
+fn pointlight() {
+    sphere_test("pointlight", 256);
+}
+
+#[test]
+fn arealight() {
+    sphere_test("arealight", 256);
+}
+
+#[test]
+fn constant() {
+    sphere_test("constant", 256);
+}
+
+#[test]
+fn envmap() {
+    sphere_test("envmap", 256);
+}
+
+#[test]
+fn roughdielectric() {
+    sphere_test("roughdielectric", 256);
+}
+
+#[test]
+fn roughplastic_linear() {
+    sphere_test("roughplastic_linear", 256);
+}
+
+#[test]
+fn roughplastic_nonlinear() {
+    sphere_test("roughplastic_nonlinear", 256);
+}
+
+fn scene_test(name: &str, spp: u32) {
+    let dir = format!("mitsuba-data/tests/scenes/{name}");
+    let Some(refs) = shared(&format!("{dir}/refs")) else {
+        return;
+    };
+    let mut any = false;
+    for entry in std::fs::read_dir(refs).unwrap() {
+        let path = entry.unwrap().path();
+        let file = path.file_name().unwrap().to_string_lossy().to_string();
+        // Reference names: <scene>_ref_rgb.exr beside <scene>.xml (the rgb variant's).
+        let Some(stem) = file.strip_suffix("_ref_rgb.exr") else {
+            continue;
+        };
+        let stem = stem.trim_end_matches("_path");
+        let candidates = [
+            format!("{dir}/{stem}.xml"),
+            format!("{dir}/{stem}_path.xml"),
+            format!("{dir}/{stem}_direct.xml"),
+        ];
+        for xml in candidates {
+            if shared(&xml).is_some() {
+                any = true;
+                check(
+                    &xml,
+                    &format!("{dir}/refs/{file}"),
+                    Setup { spp, block: 1 },
+                );
+                break;
+            }
+        }
+    }
+    assert!(any, "no scene found for the references of {name}");
+}
+
+#[test]
+fn floating_sphere() {
+    scene_test("floating_sphere", 256);
+}
+
+#[test]
+fn infinite_mirrors() {
+    scene_test("infinite_mirrors", 256);
+}
+
+#[test]
+fn instancing() {
+    scene_test("instancing", 256);
+}
+
+#[test]
+fn cornell_box_against_mitsuba() {
+    check(
+        "bitterli-scenes/cornell-box/mitsuba/scene_v3.xml",
+        "bitterli-scenes/cornell-box/mitsuba/scene_v3.exr",
+        Setup { spp: 4, block: 16 },
+    );
+}

@@ -1,0 +1,200 @@
+//! Renders compared with reference images statistically, as Mitsuba's own render tests do: a
+//! per-pixel z-test with the render's own variance and a Šidák-corrected threshold, and the
+//! per-channel ratio of the image means.
+
+use appel::io::bitmap_read::read_bitmap;
+use appel::render::{render, Film, RenderOptions};
+use appel::scene::{load_description, Scene};
+use std::path::{Path, PathBuf};
+
+pub fn shared(rel: &str) -> Option<PathBuf> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/data")
+        .join(rel);
+    if p.exists() {
+        Some(p)
+    } else {
+        eprintln!("skipping: {} is not there", p.display());
+        None
+    }
+}
+
+/// How a render compares with its reference.
+#[derive(Debug)]
+pub struct Comparison {
+    /// The smallest two-sided p-value of the per-pixel, per-channel z-tests.
+    pub min_p: f64,
+    /// The Šidák-corrected per-test threshold for a 1% chance of a false failure.
+    pub alpha: f64,
+    /// Where the smallest p-value is: (x, y, channel), ours, reference, our standard deviation.
+    pub worst: (u32, u32, usize, f32, f32, f32),
+    /// Per channel: our mean / the reference's, and that ratio's allowed deviation from 1 (1%
+    /// plus three standard deviations of our mean).
+    pub mean_ratio: [f64; 3],
+    pub ratio_tolerance: [f64; 3],
+}
+
+impl Comparison {
+    pub fn passes(&self) -> bool {
+        self.min_p >= self.alpha
+            && (0..3).all(|c| (self.mean_ratio[c] - 1.0).abs() <= self.ratio_tolerance[c])
+    }
+}
+
+pub struct Setup {
+    pub spp: u32,
+    /// Compare means over blocks of this many pixels square (1: pixel by pixel), so that a large
+    /// reference is tested at full resolution with few samples per pixel.
+    pub block: u32,
+}
+
+/// An image and its per-pixel variance of the estimate, averaged over blocks.
+pub struct Averaged {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<[f32; 3]>,
+    pub variance: Vec<[f32; 3]>,
+    /// Samples behind each value.
+    pub samples: u32,
+}
+
+pub fn render_xml(scene: &Path, setup: &Setup) -> Averaged {
+    let loaded = load_description(scene).unwrap_or_else(|e| panic!("{e}"));
+    let mut d = loaded.description;
+    d.render.spp = setup.spp;
+    let scene = Scene::new(&d, &loaded.base_dir).unwrap_or_else(|e| panic!("{e}"));
+    let film = render(&scene, &RenderOptions::default()).unwrap().0;
+    average(&film, setup.block, setup.spp)
+}
+
+/// Block means of the film; the variance of a mean of `b^2` pixels is the sum of theirs over
+/// `b^4` (pixels taken as independent: a wider filter than the box correlates neighbours a
+/// little, which makes this slightly small).
+fn average(film: &Film, b: u32, spp: u32) -> Averaged {
+    assert!(film.width % b == 0 && film.height % b == 0);
+    assert_eq!(film.variance.len(), film.rgb.len(), "the render has no variance");
+    let (w, h) = (film.width / b, film.height / b);
+    let mut rgb = vec![[0.0f32; 3]; (w * h) as usize];
+    let mut variance = vec![[0.0f32; 3]; (w * h) as usize];
+    let n = (b * b) as f64;
+    for y in 0..h {
+        for x in 0..w {
+            let (mut s, mut v) = ([0.0f64; 3], [0.0f64; 3]);
+            for j in 0..b {
+                for i in 0..b {
+                    let k = film.index(x * b + i, y * b + j);
+                    for c in 0..3 {
+                        s[c] += film.rgb[k][c] as f64;
+                        v[c] += film.variance[k][c] as f64;
+                    }
+                }
+            }
+            rgb[(y * w + x) as usize] = s.map(|s| (s / n) as f32);
+            variance[(y * w + x) as usize] = v.map(|v| (v / (n * n)) as f32);
+        }
+    }
+    Averaged {
+        width: w,
+        height: h,
+        rgb,
+        variance,
+        samples: spp * b * b,
+    }
+}
+
+/// The reference's RGB, averaged down by whole blocks to `w x h`.
+pub fn reference(path: &Path, w: u32, h: u32) -> Vec<[f32; 3]> {
+    let b = read_bitmap(path, true).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        b.width % w == 0 && b.height % h == 0,
+        "{}x{} does not divide into {w}x{h}",
+        b.width,
+        b.height
+    );
+    let (fx, fy) = (b.width / w, b.height / h);
+    let mut out = vec![[0.0f32; 3]; (w * h) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            let mut s = [0.0f64; 3];
+            for j in 0..fy {
+                for i in 0..fx {
+                    let p = b.pixel(x * fx + i, y * fy + j);
+                    for c in 0..3 {
+                        s[c] += p[c.min(p.len() - 1)] as f64;
+                    }
+                }
+            }
+            let n = (fx * fy) as f64;
+            out[(y * w + x) as usize] = s.map(|v| (v / n) as f32);
+        }
+    }
+    out
+}
+
+/// The standard normal's two-sided tail probability `P(|Z| > z)`, through `erfc`.
+fn two_sided_p(z: f64) -> f64 {
+    erfc(z.abs() / std::f64::consts::SQRT_2)
+}
+
+/// erfc with a relative error below 1.2e-7 (Numerical Recipes' Chebyshev fit, section 6.2).
+fn erfc(x: f64) -> f64 {
+    let z = x.abs();
+    let t = 1.0 / (1.0 + 0.5 * z);
+    let r = t * (-z * z - 1.265_512_23
+        + t * (1.000_023_68
+            + t * (0.374_091_96
+                + t * (0.096_784_18
+                    + t * (-0.186_288_06
+                        + t * (0.278_868_07
+                            + t * (-1.135_203_98
+                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
+        .exp();
+    if x >= 0.0 {
+        r
+    } else {
+        2.0 - r
+    }
+}
+
+/// Compares `film` with `reference`. As in Mitsuba's render tests, the per-sample variance is
+/// floored at 1e-4, so that a pixel whose few samples happened to agree (zero estimated
+/// variance) does not fail on the reference's own noise.
+pub fn compare(film: &Averaged, reference: &[[f32; 3]]) -> Comparison {
+    let n = film.rgb.len();
+    assert_eq!(n, reference.len());
+    let samples = film.samples as f64;
+    let tests = (3 * n) as f64;
+    let alpha = 1.0 - (1.0 - 0.01f64).powf(1.0 / tests);
+    let mut min_p = 1.0f64;
+    let mut worst = (0, 0, 0, 0.0, 0.0, 0.0);
+    let mut sum = [0.0f64; 3];
+    let mut sum_ref = [0.0f64; 3];
+    let mut sum_var = [0.0f64; 3];
+    for i in 0..n {
+        let ours = film.rgb[i];
+        let var = film.variance[i];
+        for c in 0..3 {
+            let r = reference[i][c] as f64;
+            let o = ours[c] as f64;
+            let v = (var[c] as f64 * samples).max(1e-4) / samples;
+            let p = two_sided_p((o - r) / v.sqrt());
+            if p < min_p {
+                min_p = p;
+                let (x, y) = (i as u32 % film.width, i as u32 / film.width);
+                worst = (x, y, c, o as f32, r as f32, var[c].sqrt());
+            }
+            sum[c] += o;
+            sum_ref[c] += r;
+            sum_var[c] += var[c] as f64;
+        }
+    }
+    let mean_ratio = std::array::from_fn(|c| sum[c] / sum_ref[c]);
+    let ratio_tolerance = std::array::from_fn(|c| 0.01 + 3.0 * sum_var[c].sqrt() / sum_ref[c]);
+    Comparison {
+        min_p,
+        alpha,
+        worst,
+        mean_ratio,
+        ratio_tolerance,
+    }
+}
