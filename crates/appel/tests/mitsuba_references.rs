@@ -31,6 +31,24 @@ fn pointlight() {
     sphere_test("pointlight", 256);
 }
 
+/// The comparison can fail: the same render 3% too bright, or a reference 3% too dark, is
+/// rejected.
+#[test]
+fn a_biased_render_is_rejected() {
+    let (Some(scene), Some(ref_path)) = (
+        shared(&format!("{SPHERES}/test_constant_path.xml")),
+        shared(&format!("{SPHERES}/refs/test_constant_ref_rgb.exr")),
+    ) else {
+        return;
+    };
+    let film = render_xml(&scene, &Setup { spp: 256, block: 1 });
+    let r = reference(&ref_path, film.width, film.height);
+    assert!(compare(&film, &r).passes());
+    let darker: Vec<[f32; 3]> = r.iter().map(|p| p.map(|c| c * 0.97)).collect();
+    let c = compare(&film, &darker);
+    assert!(!c.passes(), "a 3% bias passed: {c:?}");
+}
+
 #[test]
 fn arealight() {
     sphere_test("arealight", 256);

@@ -26,7 +26,9 @@ pub struct Comparison {
     pub min_p: f64,
     /// The Šidák-corrected per-test threshold for a 1% chance of a false failure.
     pub alpha: f64,
-    /// Where the smallest p-value is: (x, y, channel), ours, reference, our standard deviation.
+    /// Where the smallest p-value is: (x, y, channel), ours, reference, our standard deviation
+    /// (printed by the failures' messages).
+    #[allow(dead_code)]
     pub worst: (u32, u32, usize, f32, f32, f32),
     /// Per channel: our mean / the reference's, and that ratio's allowed deviation from 1 (1%
     /// plus three standard deviations of our mean).
@@ -64,13 +66,33 @@ pub fn render_xml(scene: &Path, setup: &Setup) -> Averaged {
     d.render.spp = setup.spp;
     let scene = Scene::new(&d, &loaded.base_dir).unwrap_or_else(|e| panic!("{e}"));
     let film = render(&scene, &RenderOptions::default()).unwrap().0;
-    average(&film, setup.block, setup.spp)
+    let filter = appel::render::filter::Filter::new(&d.render.filter);
+    average(&film, setup.block, setup.spp, correlation(&filter))
+}
+
+/// How much a filter wider than the pixel makes the sum of its pixels' variances understate the
+/// variance of a block mean: each sample counts in several pixels. Per axis, with support `2r`
+/// and weights `w`, a pixel's estimate has the variance of `2r mean(w)^2 / mean(w^2)` fewer
+/// samples than the block it sits in; the filter is separable, so the factor is squared (2.25 for
+/// Mitsuba's tent, 1 for the box).
+fn correlation(f: &appel::render::filter::Filter) -> f64 {
+    let r = f.radius() as f64;
+    let n = 10_000;
+    let (mut m1, mut m2) = (0.0f64, 0.0f64);
+    for k in 0..n {
+        let x = -r + (k as f64 + 0.5) / n as f64 * 2.0 * r;
+        let w = f.eval(x as f32) as f64;
+        m1 += w / n as f64;
+        m2 += w * w / n as f64;
+    }
+    let per_axis = 2.0 * r * m1 * m1 / m2;
+    per_axis * per_axis
 }
 
 /// Block means of the film; the variance of a mean of `b^2` pixels is the sum of theirs over
-/// `b^4` (pixels taken as independent: a wider filter than the box correlates neighbours a
-/// little, which makes this slightly small).
-fn average(film: &Film, b: u32, spp: u32) -> Averaged {
+/// `b^4`, times the filter's `correlation` where blocks are larger than a pixel.
+fn average(film: &Film, b: u32, spp: u32, correlation: f64) -> Averaged {
+    let correlation = if b > 1 { correlation } else { 1.0 };
     assert!(film.width % b == 0 && film.height % b == 0);
     assert_eq!(film.variance.len(), film.rgb.len(), "the render has no variance");
     let (w, h) = (film.width / b, film.height / b);
@@ -90,7 +112,7 @@ fn average(film: &Film, b: u32, spp: u32) -> Averaged {
                 }
             }
             rgb[(y * w + x) as usize] = s.map(|s| (s / n) as f32);
-            variance[(y * w + x) as usize] = v.map(|v| (v / (n * n)) as f32);
+            variance[(y * w + x) as usize] = v.map(|v| (v * correlation / (n * n)) as f32);
         }
     }
     Averaged {
@@ -156,13 +178,29 @@ fn erfc(x: f64) -> f64 {
     }
 }
 
-/// Compares `film` with `reference`. As in Mitsuba's render tests, the per-sample variance is
-/// floored at 1e-4, so that a pixel whose few samples happened to agree (zero estimated
-/// variance) does not fail on the reference's own noise.
+/// Compares `film` with `reference`. A pixel's variance is estimated from its own samples, and
+/// where those are few or heavy-tailed (a caustic seen by a handful of samples, a silhouette
+/// whose samples all missed) that estimate is far too small: each pixel's variance is therefore
+/// taken as the largest of its 3x3 neighbourhood, and the per-sample variance is floored at 1e-4
+/// as in Mitsuba's own render tests.
 pub fn compare(film: &Averaged, reference: &[[f32; 3]]) -> Comparison {
     let n = film.rgb.len();
     assert_eq!(n, reference.len());
     let samples = film.samples as f64;
+    let (w, h) = (film.width as i64, film.height as i64);
+    let neighbourhood_max = |i: usize, c: usize| {
+        let (x, y) = (i as i64 % w, i as i64 / w);
+        let mut m = 0.0f32;
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                let (nx, ny) = (x + dx, y + dy);
+                if (0..w).contains(&nx) && (0..h).contains(&ny) {
+                    m = m.max(film.variance[(ny * w + nx) as usize][c]);
+                }
+            }
+        }
+        m
+    };
     let tests = (3 * n) as f64;
     let alpha = 1.0 - (1.0 - 0.01f64).powf(1.0 / tests);
     let mut min_p = 1.0f64;
@@ -176,7 +214,7 @@ pub fn compare(film: &Averaged, reference: &[[f32; 3]]) -> Comparison {
         for c in 0..3 {
             let r = reference[i][c] as f64;
             let o = ours[c] as f64;
-            let v = (var[c] as f64 * samples).max(1e-4) / samples;
+            let v = (neighbourhood_max(i, c) as f64 * samples).max(1e-4) / samples;
             let p = two_sided_p((o - r) / v.sqrt());
             if p < min_p {
                 min_p = p;
