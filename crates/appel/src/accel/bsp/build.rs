@@ -7,9 +7,11 @@ use super::candidates::{is_axis, Chooser};
 use super::polytope::Polytope;
 use super::shape::Shape;
 use super::{BspNode, BspOptions, INTERIOR};
-use crate::math::Aabb;
+use crate::accel::Primitives;
+use crate::math::{Aabb, Vec3};
 
-pub(super) struct Builder<'a> {
+pub(super) struct Builder<'a, P> {
+    pub(super) prims: &'a P,
     pub(super) shapes: &'a [Shape],
     pub(super) opts: BspOptions,
     pub(super) max_depth: usize,
@@ -25,7 +27,7 @@ pub(super) struct Builder<'a> {
     pub(super) sah: f64,
 }
 
-impl Builder<'_> {
+impl<P: Primitives> Builder<'_, P> {
     pub(super) fn build_root(&mut self, root: Aabb, ids: Vec<u32>) {
         let cell = Polytope::from_box(root.min.as_dvec3(), root.max.as_dvec3());
         self.root_area = cell.area();
@@ -41,7 +43,17 @@ impl Builder<'_> {
         self.items.extend_from_slice(ids);
         self.leaves += 1;
         self.depth = self.depth.max(depth);
-        self.sah += area / self.root_area * self.opts.intersect_cost as f64 * ids.len() as f64;
+        if !ids.is_empty() {
+            let o = self.opts;
+            self.sah += area / self.root_area
+                * (o.visit_cost as f64 + o.intersect_cost as f64 * ids.len() as f64);
+        }
+    }
+
+    fn grown(&self, cell: &Polytope) -> Aabb {
+        let b = cell.bounds();
+        let g = b.extent() * 1e-4 + Vec3::splat(self.margin as f32);
+        Aabb::new(b.min - g, b.max + g)
     }
 
     fn build(&mut self, cell: Polytope, ids: Vec<u32>, depth: usize) {
@@ -55,13 +67,43 @@ impl Builder<'_> {
             opts: self.opts,
             margin: self.margin,
         };
-        let leaf_cost = self.opts.intersect_cost as f64 * n as f64;
+        let leaf_cost = self.opts.visit_cost as f64 + self.opts.intersect_cost as f64 * n as f64;
         let Some(p) = chooser.best(&cell, &ids).filter(|p| p.cost < leaf_cost) else {
             return self.leaf(area, &ids, depth);
         };
+        let (n64, d64) = (p.n.as_dvec3(), p.d as f64);
+        let below_cell = cell.clip(n64, d64);
+        let above_cell = cell.clip(-n64, -d64);
+        drop(cell);
+        // A primitive whose vertices straddle the plane may still miss one child's cell (a large
+        // triangle beside a small cell: the plane cuts it far away). A triangle goes only to the
+        // cells it comes within the margin of (clipped by the cell's planes); another primitive
+        // only to the cells whose bounding boxes it overlaps ([`Primitives::clip_overlaps`],
+        // each box grown by the margin and a little more for that test's own rounding, as the
+        // kd-tree's are). Either way nothing the cell holds is lost.
+        let (gb, ga) = (self.grown(&below_cell), self.grown(&above_cell));
         let (mut below, mut above) = (Vec::with_capacity(n), Vec::with_capacity(n / 2));
         for &i in &ids {
-            let (b, a) = self.shapes[i as usize].sides(p.n, p.d, self.margin);
+            let (mut b, mut a) = self.shapes[i as usize].sides(p.n, p.d, self.margin);
+            if b && a {
+                let (cb, ca) = match self.shapes[i as usize] {
+                    Shape::Triangle(t) => {
+                        let t = t.map(|v| v.as_dvec3());
+                        (
+                            below_cell.meets_triangle(t, self.margin),
+                            above_cell.meets_triangle(t, self.margin),
+                        )
+                    }
+                    Shape::Box(_) => (
+                        self.prims.clip_overlaps(i as usize, &gb),
+                        self.prims.clip_overlaps(i as usize, &ga),
+                    ),
+                };
+                // Neither (only possible by rounding in an earlier test): keep both.
+                if cb || ca {
+                    (b, a) = (cb, ca);
+                }
+            }
             if b {
                 below.push(i);
             }
@@ -75,10 +117,6 @@ impl Builder<'_> {
             return self.leaf(area, &ids, depth);
         }
         drop(ids);
-        let (n64, d64) = (p.n.as_dvec3(), p.d as f64);
-        let below_cell = cell.clip(n64, d64);
-        let above_cell = cell.clip(-n64, -d64);
-        drop(cell);
         let me = self.nodes.len();
         self.nodes.push(BspNode {
             plane: [p.n.x, p.n.y, p.n.z, p.d],

@@ -6,8 +6,9 @@
 //! - the supporting planes of `triangle_planes` of the node's triangles (Fuchs, Kedem & Naylor
 //!   1980), their counts exact.
 //! The cost is the surface area heuristic (MacDonald & Booth 1990) over the convex cells:
-//! `C_trav + C_isect (A_below N_below + A_above N_above) / A`, the areas those of the polytopes
-//! the plane cuts the node's cell into (`polytope.rs`).
+//! `C_trav + sum over the non-empty sides (A_side / A) (C_visit + C_isect N_side)`, the areas
+//! those of the polytopes the plane cuts the node's cell into (`polytope.rs`), against a leaf's
+//! `C_visit + C_isect N`.
 
 use super::polytope::Polytope;
 use super::shape::Shape;
@@ -30,6 +31,12 @@ const DIRECTIONS: [[f32; 3]; 13] = [
     [1.0, -1.0, 1.0],
     [-1.0, 1.0, 1.0],
 ];
+
+/// The least fraction of the cell's area a plane with an empty side must cut away.
+const EMPTY_MIN: f64 = 0.25;
+
+/// The most planes per direction a node of many primitives takes.
+const MAX_BINS: usize = 256;
 
 /// A plane `n . x = d` and its cost.
 #[derive(Clone, Copy, Debug)]
@@ -59,14 +66,41 @@ impl Chooser<'_> {
                 return;
             }
             let (ab, aa) = cell.split_areas(normal.as_dvec3(), d as f64);
+            // A plane with an empty side must cut a quarter of the cell away: any sliver of
+            // empty space lowers the cost a little, and without this rule the build carved every
+            // leaf into a 26-DOP around its triangles, one plane at a time, down to the depth
+            // limit (811,463 nodes for 83,008 triangles on the teapot in the stadium).
+            let empty = if nb == 0 {
+                ab
+            } else if na == 0 {
+                aa
+            } else {
+                area
+            };
+            if empty < EMPTY_MIN * area {
+                return;
+            }
             let o = self.opts;
-            let cost = o.traversal_cost as f64
-                + o.intersect_cost as f64 * (ab * nb as f64 + aa * na as f64) / area;
+            let child = |a: f64, k: usize| {
+                if k == 0 {
+                    0.0
+                } else {
+                    a / area * (o.visit_cost as f64 + o.intersect_cost as f64 * k as f64)
+                }
+            };
+            let cost = o.traversal_cost as f64 + child(ab, nb) + child(aa, na);
             if best.is_none_or(|b| cost < b.cost) {
                 best = Some(Plane { n: normal, d, cost });
             }
         };
-        let bins = self.opts.bins;
+        // Large nodes take more bins: with 8, a small dense mesh in a large scene (the teapot in
+        // the stadium) falls into one bin and takes a dozen levels to isolate, each copying
+        // the large triangles around it.
+        let bins = if self.opts.bins == 0 {
+            0
+        } else {
+            (n / 16).clamp(self.opts.bins, MAX_BINS)
+        };
         if bins > 0 {
             let mut ext = Vec::with_capacity(n);
             let mut starts = vec![0usize; bins];
@@ -122,8 +156,15 @@ impl Chooser<'_> {
                 continue;
             }
             let normal = (normal / normal.length()).as_vec3();
-            let d = (normal.as_dvec3().dot(a)) as f32;
-            offer(normal, d, self.count(ids, normal, d));
+            // Moved off the triangle by twice the margin, to either side: on the plane itself,
+            // the triangle and every neighbour sharing a vertex with it would lie within the
+            // margin of it and go to both sides (on a closed mesh, about a dozen copies per
+            // plane: 443,003 references for 20,480 triangles in the teapot in the stadium).
+            let d = normal.as_dvec3().dot(a);
+            for shift in [-2.0 * self.margin, 2.0 * self.margin] {
+                let d = (d + shift) as f32;
+                offer(normal, d, self.count(ids, normal, d));
+            }
         }
         best
     }

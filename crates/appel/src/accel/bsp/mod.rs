@@ -30,6 +30,8 @@ pub struct BspOptions {
     /// Testing one primitive of a leaf (the scalar watertight test): measured at about two node
     /// steps on the bunny (docs/accel.md).
     pub intersect_cost: f32,
+    /// Entering a non-empty leaf, beyond its primitives' tests (the loop, the early-exit test).
+    pub visit_cost: f32,
     /// Nodes of this many primitives or fewer are leaves.
     pub max_prims: usize,
     /// `None`: `8 + 1.3 log2(N)`, pbrt's rule for kd-trees; at most [`MAX_DEPTH`].
@@ -48,6 +50,7 @@ impl Default for BspOptions {
         Self {
             traversal_cost: 1.0,
             intersect_cost: 2.0,
+            visit_cost: 1.0,
             max_prims: 2,
             max_depth: None,
             triangle_planes: 8,
@@ -86,11 +89,14 @@ pub struct Bsp {
 }
 
 /// A primitive within this many ulps of the scene's largest coordinate of a plane goes to both
-/// sides: the traversal's plane crossing has a rounding error of a few tens of ulps of the
-/// coordinates (a dot product with the origin, another with the direction, a division), and a
-/// hit the rounding moves across a plane must be found in the cell the walk puts it in. 256 ulps
-/// covers origins some ten scene sizes away.
-const MARGIN_ULPS: f32 = 256.0;
+/// sides: the traversal's plane crossing `(d - n . o) / (n . dir)` has a rounding error, in
+/// distance from the plane, of about 30 ulps of that coordinate for a ray starting within the
+/// scene's coordinate range (a three-term dot product with the origin and the subtraction of `d`,
+/// about 9; the other with the direction, over the ray's length in the scene, about 18; the
+/// division, about 4), and a hit the rounding moves across a plane must be found in the cell the
+/// walk puts it in. (The kd-tree, whose crossing is one subtraction and one multiplication,
+/// takes 8.)
+const MARGIN_ULPS: f32 = 32.0;
 
 impl Bsp {
     pub fn build<P: Primitives>(prims: &P) -> Self {
@@ -124,6 +130,7 @@ impl Bsp {
             .unwrap_or_else(|| (8.0 + 1.3 * (n as f64).log2()).round() as usize)
             .min(MAX_DEPTH);
         let mut b = Builder {
+            prims,
             shapes: &shapes,
             opts,
             max_depth,

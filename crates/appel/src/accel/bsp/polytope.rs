@@ -11,6 +11,8 @@ use glam::DVec3;
 #[derive(Clone, Debug)]
 pub(super) struct Polytope {
     faces: Vec<Vec<DVec3>>,
+    /// The half-spaces `n . x <= d` whose intersection the cell is.
+    planes: Vec<(DVec3, f64)>,
 }
 
 /// The part of one face on the lower side of a plane: its area, and the points where its boundary
@@ -42,7 +44,29 @@ impl Polytope {
                 faces.push(counter_clockwise(pts, normal));
             }
         }
-        Self { faces }
+        let planes = (0..3)
+            .flat_map(|a| {
+                let mut e = DVec3::ZERO;
+                e[a] = 1.0;
+                [(-e, -min[a]), (e, max[a])]
+            })
+            .collect();
+        Self { faces, planes }
+    }
+
+    /// The bounding box, rounded outward to f32.
+    pub(super) fn bounds(&self) -> crate::math::Aabb {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for p in self.faces.iter().flatten() {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let down = |x: f64| (x as f32).next_down();
+        let up = |x: f64| (x as f32).next_up();
+        crate::math::Aabb::new(
+            crate::math::Vec3::new(down(lo.x), down(lo.y), down(lo.z)),
+            crate::math::Vec3::new(up(hi.x), up(hi.y), up(hi.z)),
+        )
     }
 
     pub(super) fn area(&self) -> f64 {
@@ -87,7 +111,36 @@ impl Polytope {
                 faces.push(cap);
             }
         }
-        Self { faces }
+        let mut planes = self.planes.clone();
+        planes.push((n, d));
+        Self { faces, planes }
+    }
+
+    /// Whether triangle `t` comes within `margin` of the cell (in the distance to each of its
+    /// planes): the triangle clipped by every half-space, each moved out by `margin` (Sutherland
+    /// & Hodgman 1974), is not empty.
+    pub(super) fn meets_triangle(&self, t: [DVec3; 3], margin: f64) -> bool {
+        let mut poly = t.to_vec();
+        let mut next = Vec::with_capacity(poly.len() + 1);
+        for &(n, d) in &self.planes {
+            next.clear();
+            let d = d + margin * n.length();
+            for (i, &p) in poly.iter().enumerate() {
+                let q = poly[(i + 1) % poly.len()];
+                let (sp, sq) = (n.dot(p) - d, n.dot(q) - d);
+                if sp <= 0.0 {
+                    next.push(p);
+                }
+                if (sp <= 0.0) != (sq <= 0.0) {
+                    next.push(p + (q - p) * (sp / (sp - sq)));
+                }
+            }
+            if next.is_empty() {
+                return false;
+            }
+            std::mem::swap(&mut poly, &mut next);
+        }
+        true
     }
 }
 

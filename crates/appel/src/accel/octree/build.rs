@@ -35,15 +35,16 @@ impl<P: Primitives> Builder<'_, P> {
             return self.leaf(at, &ids, depth);
         }
         let children = self.distribute(&cell, &ids);
-        // A split that copies primitives while some octant still lists all of them makes no
-        // progress: the primitives are stacked over each other and larger than the octants (or
-        // all meet at the centre), and every level below would copy them again, into every cell
-        // along their surface down to the depth limit (4^depth cells for a stack of coincident
-        // triangles). Such a cell stays a leaf. (Copies alone are progress when the octants list
-        // fewer primitives each: walls crossing a cell are listed in four of its octants, but
-        // each octant holds fewer walls; and a split without copies only shrinks the cell.)
+        // A split that copies primitives while two or more octants still list all of them makes
+        // no progress: the primitives are stacked over each other and larger than the octants
+        // (or all meet at the centre), and every level below would copy them again, into every
+        // cell along their surface down to the depth limit (4^depth cells for a stack of
+        // coincident triangles). Such a cell stays a leaf. One octant listing them all is
+        // progress (a small dense mesh in one octant, with a large triangle copied beside it),
+        // and so are copies when every octant lists fewer (walls crossing the cell).
         let copies: usize = children.iter().map(Vec::len).sum();
-        if copies > ids.len() && children.iter().any(|c| c.len() == ids.len()) {
+        let full = children.iter().filter(|c| c.len() == ids.len()).count();
+        if copies > ids.len() && full >= 2 {
             return self.leaf(at, &ids, depth);
         }
         drop(ids);

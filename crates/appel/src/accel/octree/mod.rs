@@ -151,10 +151,12 @@ impl Octree {
 
 /// A primitive within this many ulps of the scene's largest coordinate of a cell's face is listed
 /// in the cell on the face's other side too: the traversal computes the ray's crossing of a
-/// face with a rounding error (relative to the coordinates, a few ulps for a ray starting within a
-/// few scene sizes of it), and a hit the rounding moves across the face must still be found in
-/// the cell the walk puts it in. 32 ulps leaves room for origins some ten scene sizes away.
-const MARGIN_ULPS: f32 = 32.0;
+/// central plane as `(c - o) / dir` (a subtraction and a multiplication by the rounded
+/// reciprocal), whose point lies within a few ulps of `|c - o|` of the plane, and a hit the
+/// rounding moves across the face must be found in the cell the walk puts it in. The kd-tree's
+/// planes are crossed the same way and take the same 8 ulps; this is what `accel_agreement`
+/// checks, with origins up to twice the scene's extent away.
+const MARGIN_ULPS: f32 = 8.0;
 
 /// The box of child `k` of the cell `b` (bit `a` of `k` set: the upper half on axis `a`). The
 /// builder and the traversal both take the centre as `(min + max) / 2` from the same floats, so
