@@ -5,6 +5,7 @@
 //!   off (binned counts, as a binned kd-tree build takes them: exact only at the bin edges);
 //! - the supporting planes of `triangle_planes` of the node's triangles (Fuchs, Kedem & Naylor
 //!   1980), their counts exact.
+//!
 //! The cost is the surface area heuristic (MacDonald & Booth 1990) over the convex cells:
 //! `C_trav + sum over the non-empty sides (A_side / A) (C_visit + C_isect N_side)`, the areas
 //! those of the polytopes the plane cuts the node's cell into (`polytope.rs`), against a leaf's
@@ -36,7 +37,7 @@ const DIRECTIONS: [[f32; 3]; 13] = [
 const EMPTY_MIN: f64 = 0.25;
 
 /// The most planes per direction a node of many primitives takes.
-const MAX_BINS: usize = 256;
+const MAX_BINS: usize = 64;
 
 /// A plane `n . x = d` and its cost.
 #[derive(Clone, Copy, Debug)]
@@ -99,7 +100,7 @@ impl Chooser<'_> {
         let bins = if self.opts.bins == 0 {
             0
         } else {
-            (n / 16).clamp(self.opts.bins, MAX_BINS)
+            (n / 64).clamp(self.opts.bins, MAX_BINS)
         };
         if bins > 0 {
             let mut ext = Vec::with_capacity(n);
@@ -152,7 +153,7 @@ impl Chooser<'_> {
             };
             let [a, b, c] = t.map(|p| p.as_dvec3());
             let normal = (b - a).cross(c - a);
-            if !(normal.length_squared() > 0.0) {
+            if normal.length_squared().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                 continue;
             }
             let normal = (normal / normal.length()).as_vec3();

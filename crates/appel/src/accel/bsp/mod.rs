@@ -41,7 +41,8 @@ pub struct BspOptions {
     /// O(N^2) per node to count).
     pub triangle_planes: usize,
     /// Planes per direction of the 26-DOP (binned over the extent of the node's primitives along
-    /// it, plus the two extremes, which cut the empty space off); 0 for none.
+    /// it, plus the two extremes, which cut the empty space off), for nodes of up to `64 * bins`
+    /// primitives; larger nodes take one per 64 primitives, at most 64. 0 for none.
     pub bins: usize,
 }
 

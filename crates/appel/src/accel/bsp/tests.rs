@@ -84,7 +84,7 @@ fn slanted_walls_get_oblique_planes() {
     assert!(hits > 100, "{hits}");
     let st = b.stats();
     assert!(
-        2 * b.oblique_planes() > st.nodes,
+        3 * b.oblique_planes() > st.nodes,
         "{} of {}",
         b.oblique_planes(),
         st.nodes

@@ -14,6 +14,7 @@ use crate::accel::bvh::{far_scale, RayBox};
 use crate::accel::mailbox::{test_items, Mailbox};
 use crate::accel::{Hit, Primitives, TraversalStats};
 use crate::math::{Aabb, Ray, Vec3};
+use std::mem::MaybeUninit;
 
 /// A cell waiting to be visited, with the ray's interval in it.
 #[derive(Clone, Copy)]
@@ -46,7 +47,8 @@ impl Octree {
             t0,
             t1,
         };
-        let mut stack = [cur; STACK];
+        // Uninitialised: a ray rarely needs more than a few entries of the 73.
+        let mut stack = [const { MaybeUninit::<Waiting>::uninit() }; STACK];
         let mut sp = 0usize;
         let mut best = None;
         let mut mail = Mailbox::new();
@@ -69,7 +71,7 @@ impl Octree {
                         t0: s0,
                         t1: s1,
                     }) {
-                        stack[sp] = w;
+                        stack[sp] = MaybeUninit::new(w);
                         sp += 1;
                     }
                 }
@@ -95,7 +97,8 @@ impl Octree {
                 return best;
             }
             sp -= 1;
-            cur = stack[sp];
+            // SAFETY: entries below `sp` were written by the pushes above.
+            cur = unsafe { stack[sp].assume_init() };
             if t_max < cur.t0 {
                 return best;
             }
