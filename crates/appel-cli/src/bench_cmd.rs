@@ -16,8 +16,8 @@ pub struct BenchArgs {
     /// mesh file (framed as `appel render` frames it).
     #[arg(default_value = "teapot-in-stadium")]
     target: String,
-    /// Comma-separated acceleration structures to measure [default: brute,grid,kdtree,bvh; with
-    /// --scene: the scene's own].
+    /// Comma-separated acceleration structures to measure, of brute, grid, kdtree, bvh, octree
+    /// and bsp [default: brute,grid,kdtree,bvh; with --scene: the scene's own].
     #[arg(long)]
     accel: Option<String>,
     /// Threads for the multi-threaded figures (default: all cores).

@@ -28,7 +28,7 @@ fn check_all(m: &TriangleMesh, rays: &[Ray]) -> usize {
         .filter(|&k| k != AccelKind::Brute)
         .map(|k| (k.name().to_string(), Accel::build(k, &prims)))
         .collect();
-    assert_eq!(others.len(), 3);
+    assert_eq!(others.len(), 5);
     // The default BVH is 8 wide; the binary and 4-wide layouts, and compact leaves, answer the same.
     for (width, compact) in [(2, false), (4, false), (4, true), (8, true)] {
         let opts = BvhOptions {
@@ -205,7 +205,13 @@ fn closed_mesh_agrees_and_no_ray_from_inside_escapes() {
     // A ray from inside always hits the closed, watertight-tested mesh.
     let prims = MeshPrimitives::new(&m);
     let mut st = TraversalStats::default();
-    for kind in [AccelKind::Bvh, AccelKind::Grid, AccelKind::KdTree] {
+    for kind in [
+        AccelKind::Bvh,
+        AccelKind::Grid,
+        AccelKind::KdTree,
+        AccelKind::Octree,
+        AccelKind::Bsp,
+    ] {
         let accel = Accel::build(kind, &prims);
         for r in rays.iter().step_by(3) {
             assert!(accel.intersect(&prims, r, f32::INFINITY, &mut st).is_some());

@@ -34,7 +34,7 @@ fn every_structure_renders_the_built_in_scenes_identically() {
         let mut d = builtin(name, size.0, size.1);
         d.render.accel = "brute".into();
         let (want, _) = film(&d);
-        let mut variants: Vec<(String, Description)> = ["grid", "kdtree", "bvh"]
+        let mut variants: Vec<(String, Description)> = ["grid", "kdtree", "bvh", "octree", "bsp"]
             .iter()
             .map(|&a| {
                 let mut v = d.clone();

@@ -236,6 +236,60 @@ fn hits_agree_with_a_flattened_copy_on_random_rays() {
     );
 }
 
+/// Every structure, as the scene's top level over 40 placements (primitives known only by their
+/// bounds and their own any-hit query) and inside the placed mesh, returns the BVH's hits (the
+/// structures' agreement with brute force is tested in `accel_agreement`) exactly. Brute force
+/// itself, through 40 instances of 1,292 triangles, would take most of this test's time.
+#[test]
+fn every_structure_finds_the_same_instance_hits() {
+    let dir = tempfile::tempdir().unwrap();
+    write_mesh(dir.path());
+    let mut rng = SplitMix64(11);
+    let lines: String = (0..40)
+        .map(|_| appel::io::placements::placement_line(&random_transform(&mut rng)))
+        .collect();
+    std::fs::write(dir.path().join("p.txt"), lines).unwrap();
+    let scene = |accel: &str| {
+        let text = format!(
+            "[camera]\neye = [0.0, 0.0, 30.0]\nlook_at = [0.0, 0.0, 0.0]\n[render]\naccel = \"{accel}\"\n\
+             [meshes.lump]\nfile = \"m.ply\"\n[[instance]]\nmesh = \"lump\"\nplacements = \"p.txt\"\n"
+        );
+        Scene::new(&parse(&text), dir.path()).unwrap()
+    };
+    let bvh = scene("bvh");
+    let rays: Vec<(Ray, f32)> = (0..3000)
+        .map(|_| {
+            let o = rng.in_box(Vec3::splat(-12.0), Vec3::splat(12.0));
+            let target = rng.in_box(Vec3::splat(-6.0), Vec3::splat(6.0));
+            (Ray::new(o, (target - o).normalize()), rng.next_f32() * 20.0)
+        })
+        .collect();
+    let mut s = TraversalStats::default();
+    let want: Vec<(Option<f32>, bool)> = rays
+        .iter()
+        .map(|(ray, t_max)| {
+            let h = bvh.intersect(ray, f32::INFINITY, &mut s);
+            (h.map(|h| h.t), bvh.occluded(ray, *t_max, &mut s))
+        })
+        .collect();
+    assert!(want.iter().filter(|w| w.0.is_some()).count() > 300);
+    for &name in appel::accel::AccelKind::NAMES
+        .iter()
+        .filter(|&&n| n != "brute" && n != "bvh")
+    {
+        let other = scene(name);
+        for ((ray, t_max), &(t, occluded)) in rays.iter().zip(&want) {
+            let got = other.intersect(ray, f32::INFINITY, &mut s);
+            assert_eq!(got.map(|h| h.t), t, "{name} {ray:?}");
+            assert_eq!(
+                other.occluded(ray, *t_max, &mut s),
+                occluded,
+                "{name} {ray:?} {t_max}"
+            );
+        }
+    }
+}
+
 fn compare(a: &appel::render::Film, b: &appel::render::Film) -> (f32, f32) {
     let diffs: Vec<f32> = a
         .rgb

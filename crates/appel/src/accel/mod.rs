@@ -3,19 +3,24 @@
 //! [`Accel`] is the enum the renderer holds: one match per ray, no dynamic dispatch per node.
 
 mod brute;
+mod bsp;
 pub mod bvh;
 mod grid;
 mod kdtree;
+mod mailbox;
 mod mesh_prims;
+mod octree;
 mod stats;
 #[cfg(test)]
 pub(crate) mod testutil;
 
 pub use brute::Brute;
+pub use bsp::{Bsp, BspOptions};
 pub use bvh::{Bvh, BvhOptions, BvhSplit};
 pub use grid::{Grid, GridOptions};
 pub use kdtree::{KdNode, KdOptions, KdTree};
 pub use mesh_prims::MeshPrimitives;
+pub use octree::{Octree, OctreeOptions};
 pub use stats::{AccelStats, TraversalStats};
 
 use crate::geometry::PrimHit;
@@ -211,10 +216,12 @@ pub enum AccelKind {
     KdTree,
     #[default]
     Bvh,
+    Octree,
+    Bsp,
 }
 
 impl AccelKind {
-    pub const NAMES: &'static [&'static str] = &["brute", "grid", "kdtree", "bvh"];
+    pub const NAMES: &'static [&'static str] = &["brute", "grid", "kdtree", "bvh", "octree", "bsp"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
@@ -222,6 +229,8 @@ impl AccelKind {
             "grid" => Some(Self::Grid),
             "kdtree" => Some(Self::KdTree),
             "bvh" => Some(Self::Bvh),
+            "octree" => Some(Self::Octree),
+            "bsp" => Some(Self::Bsp),
             _ => None,
         }
     }
@@ -232,6 +241,8 @@ impl AccelKind {
             Self::Grid => "grid",
             Self::KdTree => "kdtree",
             Self::Bvh => "bvh",
+            Self::Octree => "octree",
+            Self::Bsp => "bsp",
         }
     }
 }
@@ -242,6 +253,8 @@ pub struct AccelOptions {
     pub bvh: BvhOptions,
     pub grid: GridOptions,
     pub kdtree: KdOptions,
+    pub octree: OctreeOptions,
+    pub bsp: BspOptions,
 }
 
 /// A built acceleration structure.
@@ -251,6 +264,8 @@ pub enum Accel {
     Grid(Grid),
     KdTree(KdTree),
     Bvh(Bvh),
+    Octree(Octree),
+    Bsp(Bsp),
 }
 
 impl Accel {
@@ -264,6 +279,8 @@ impl Accel {
             AccelKind::Grid => Accel::Grid(Grid::build_with(prims, o.grid)),
             AccelKind::KdTree => Accel::KdTree(KdTree::build_with(prims, o.kdtree)),
             AccelKind::Bvh => Accel::Bvh(Bvh::build_with(prims, o.bvh)),
+            AccelKind::Octree => Accel::Octree(Octree::build_with(prims, o.octree)),
+            AccelKind::Bsp => Accel::Bsp(Bsp::build_with(prims, o.bsp)),
         }
     }
 
@@ -280,6 +297,8 @@ impl Accel {
             Accel::Grid(a) => a.intersect(prims, ray, t_max, stats),
             Accel::KdTree(a) => a.intersect(prims, ray, t_max, stats),
             Accel::Bvh(a) => a.intersect(prims, ray, t_max, stats),
+            Accel::Octree(a) => a.intersect(prims, ray, t_max, stats),
+            Accel::Bsp(a) => a.intersect(prims, ray, t_max, stats),
         }
     }
 
@@ -322,6 +341,8 @@ impl Accel {
             Accel::Grid(a) => a.occluded(prims, ray, t_max, stats),
             Accel::KdTree(a) => a.occluded(prims, ray, t_max, stats),
             Accel::Bvh(a) => a.occluded(prims, ray, t_max, stats),
+            Accel::Octree(a) => a.occluded(prims, ray, t_max, stats),
+            Accel::Bsp(a) => a.occluded(prims, ray, t_max, stats),
         }
     }
 
@@ -331,6 +352,8 @@ impl Accel {
             Accel::Grid(a) => a.stats(),
             Accel::KdTree(a) => a.stats(),
             Accel::Bvh(a) => a.stats(),
+            Accel::Octree(a) => a.stats(),
+            Accel::Bsp(a) => a.stats(),
         }
     }
 }
@@ -341,11 +364,14 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_bvh_is_the_default() {
-        assert_eq!(AccelKind::NAMES, &["brute", "grid", "kdtree", "bvh"]);
+        assert_eq!(
+            AccelKind::NAMES,
+            &["brute", "grid", "kdtree", "bvh", "octree", "bsp"]
+        );
         for &n in AccelKind::NAMES {
             assert_eq!(AccelKind::from_name(n).unwrap().name(), n);
         }
-        assert_eq!(AccelKind::from_name("octree"), None);
+        assert_eq!(AccelKind::from_name("bih"), None);
         assert_eq!(AccelKind::default(), AccelKind::Bvh);
     }
 
