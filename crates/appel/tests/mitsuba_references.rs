@@ -101,11 +101,7 @@ fn scene_test(name: &str, spp: u32) {
         for xml in candidates {
             if shared(&xml).is_some() {
                 any = true;
-                check(
-                    &xml,
-                    &format!("{dir}/refs/{file}"),
-                    Setup { spp, block: 1 },
-                );
+                check(&xml, &format!("{dir}/refs/{file}"), Setup { spp, block: 1 });
                 break;
             }
         }

@@ -77,6 +77,10 @@ impl SampleIntegrator for PathTracer {
         sampler: &mut S,
         ctx: &mut TraceContext,
     ) -> Vec3 {
+        // Mitsuba's max_depth 0: no light at all.
+        if self.max_depth == 0 {
+            return Vec3::ZERO;
+        }
         let emitters = &scene.emitters;
         let mut ray = *camera_ray;
         let mut throughput = Vec3::ONE;

@@ -586,6 +586,17 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
     if let Some(t) = &s.transform {
         c.at(key("transform"), |c| transform(c, t))?;
     }
+    if s.flip_normals == Some(true)
+        && !matches!(s.kind.as_str(), "mesh" | "rectangle" | "cube" | "disk")
+    {
+        return c.fail(
+            "flip_normals",
+            format!(
+                "a {} has no `flip_normals`: it applies to meshes, rectangles, cubes and disks",
+                s.kind
+            ),
+        );
+    }
     if let Some(e) = &s.emitter {
         c.at(key("emitter"), |c| {
             c.at(key("radiance"), |c| texture(c, &e.radiance))

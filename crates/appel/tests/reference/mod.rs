@@ -93,8 +93,12 @@ fn correlation(f: &appel::render::filter::Filter) -> f64 {
 /// `b^4`, times the filter's `correlation` where blocks are larger than a pixel.
 fn average(film: &Film, b: u32, spp: u32, correlation: f64) -> Averaged {
     let correlation = if b > 1 { correlation } else { 1.0 };
-    assert!(film.width % b == 0 && film.height % b == 0);
-    assert_eq!(film.variance.len(), film.rgb.len(), "the render has no variance");
+    assert!(film.width.is_multiple_of(b) && film.height.is_multiple_of(b));
+    assert_eq!(
+        film.variance.len(),
+        film.rgb.len(),
+        "the render has no variance"
+    );
     let (w, h) = (film.width / b, film.height / b);
     let mut rgb = vec![[0.0f32; 3]; (w * h) as usize];
     let mut variance = vec![[0.0f32; 3]; (w * h) as usize];
@@ -128,7 +132,7 @@ fn average(film: &Film, b: u32, spp: u32, correlation: f64) -> Averaged {
 pub fn reference(path: &Path, w: u32, h: u32) -> Vec<[f32; 3]> {
     let b = read_bitmap(path, true).unwrap_or_else(|e| panic!("{e}"));
     assert!(
-        b.width % w == 0 && b.height % h == 0,
+        b.width.is_multiple_of(w) && b.height.is_multiple_of(h),
         "{}x{} does not divide into {w}x{h}",
         b.width,
         b.height
@@ -162,15 +166,17 @@ fn two_sided_p(z: f64) -> f64 {
 fn erfc(x: f64) -> f64 {
     let z = x.abs();
     let t = 1.0 / (1.0 + 0.5 * z);
-    let r = t * (-z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98
-                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-        .exp();
+    let r = t
+        * (-z * z - 1.265_512_23
+            + t * (1.000_023_68
+                + t * (0.374_091_96
+                    + t * (0.096_784_18
+                        + t * (-0.186_288_06
+                            + t * (0.278_868_07
+                                + t * (-1.135_203_98
+                                    + t * (1.488_515_87
+                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
+            .exp();
     if x >= 0.0 {
         r
     } else {
@@ -208,11 +214,11 @@ pub fn compare(film: &Averaged, reference: &[[f32; 3]]) -> Comparison {
     let mut sum = [0.0f64; 3];
     let mut sum_ref = [0.0f64; 3];
     let mut sum_var = [0.0f64; 3];
-    for i in 0..n {
+    for (i, reference) in reference.iter().enumerate() {
         let ours = film.rgb[i];
         let var = film.variance[i];
         for c in 0..3 {
-            let r = reference[i][c] as f64;
+            let r = reference[c] as f64;
             let o = ours[c] as f64;
             let v = (neighbourhood_max(i, c) as f64 * samples).max(1e-4) / samples;
             let p = two_sided_p((o - r) / v.sqrt());

@@ -6,7 +6,7 @@ use super::Vec3f;
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 pub enum MaterialDesc {
     /// Whitted's model: `ambient * ka + sum over visible lights (kd * color * cos + ks * blinn^n) +
     /// kr * reflected + kt * transmitted`.

@@ -284,6 +284,8 @@ fn film_desc(f: &Object, render: &mut RenderDesc) -> Result<(u32, u32)> {
     }
     let width = f.int_in("width", 1..=65536)?.unwrap_or(768) as u32;
     let height = f.int_in("height", 1..=65536)?.unwrap_or(576) as u32;
+    // Mitsuba's film reconstructs with a Gaussian unless an <rfilter> says otherwise.
+    render.filter = FilterDesc::Gaussian { stddev: 0.5 };
     // How Mitsuba would store the image: Appel's output file decides that.
     for ignored in ["pixel_format", "component_format", "file_format"] {
         f.string(ignored)?;
