@@ -34,7 +34,8 @@ fn quads_are_split_and_attributes_follow_the_corners() {
     let mesh = &m.parts[0].mesh;
     assert_eq!(mesh.triangle_count(), 2);
     assert_eq!(mesh.positions.len(), 4);
-    assert_eq!(mesh.uvs.as_ref().unwrap()[2], Vec2::new(1.0, 1.0));
+    // `vt 1 1` with v flipped to Appel's (and Mitsuba's) top-row origin.
+    assert_eq!(mesh.uvs.as_ref().unwrap()[2], Vec2::new(1.0, 0.0));
     assert_eq!(mesh.normals.as_ref().unwrap()[3], Vec3::Z);
     // Both triangles keep the quad's counter-clockwise winding (normal +z).
     for t in 0..2 {
