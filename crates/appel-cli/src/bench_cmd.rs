@@ -38,15 +38,20 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 3)]
     runs: usize,
     /// Real-time mode: render this scene (built-in name, scene file or mesh file) --frames times at
-    /// 1 sample per pixel and report frames per second and rays per frame by kind.
+    /// 1 sample per pixel and report frames per second and rays per frame by kind. A scene whose
+    /// integrator is path or direct (a Mitsuba XML file, say) is rendered at --spp instead, and
+    /// samples per second are reported.
     #[arg(long, value_name = "SCENE", conflicts_with = "target")]
     scene: Option<String>,
-    /// Frames to render in real-time mode (the median frame time is reported).
-    #[arg(long, default_value_t = 100, requires = "scene")]
-    frames: usize,
-    /// Recursion depth in real-time mode.
-    #[arg(long, default_value_t = 5, requires = "scene")]
-    max_depth: u32,
+    /// Renders in --scene mode (the median time is reported) [default: 100; path and direct: 3].
+    #[arg(long, requires = "scene")]
+    frames: Option<usize>,
+    /// Recursion depth in --scene mode [default: 5; path and direct: the scene's, -1 unlimited].
+    #[arg(long, requires = "scene", allow_hyphen_values = true)]
+    max_depth: Option<i32>,
+    /// Samples per pixel of a path or direct scene in --scene mode [default: the scene's].
+    #[arg(long, requires = "scene")]
+    spp: Option<u32>,
     /// Also measure Intel Embree 3 (loaded at run time: `libembree3.so.3`, or the file named by
     /// APPEL_EMBREE_LIB) on the same rays, in the same process and thread pools.
     #[arg(long)]

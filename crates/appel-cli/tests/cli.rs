@@ -615,3 +615,63 @@ fn bench_scene_frames_reports_fps_and_rays_by_kind() {
         stderr(&bad)
     );
 }
+
+#[test]
+fn bench_scene_reports_samples_per_second_for_a_path_traced_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("path.xml"),
+        r#"<scene version="3.0.0">
+    <integrator type="path"><integer name="max_depth" value="3"/></integrator>
+    <sensor type="perspective">
+        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="2"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="12"/></film>
+    </sensor>
+    <shape type="sphere"><bsdf type="diffuse"/></shape>
+    <shape type="rectangle">
+        <transform name="to_world"><translate x="0" y="0" z="3"/></transform>
+        <emitter type="area"><rgb name="radiance" value="5"/></emitter>
+    </shape>
+</scene>"#,
+    )
+    .unwrap();
+    let args = [
+        "bench",
+        "--scene",
+        "path.xml",
+        "--spp",
+        "4",
+        "--frames",
+        "2",
+        "--threads",
+        "1",
+        "--json",
+    ];
+    let out = appel(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value =
+        serde_json::from_str(String::from_utf8_lossy(&out.stdout).trim()).expect("one JSON object");
+    assert_eq!(v["integrator"], "path");
+    assert_eq!((v["spp"].as_u64(), v["runs"].as_u64()), (Some(4), Some(2)));
+    assert_eq!(v["max_depth"].as_i64(), Some(3));
+    // One ray per sample, and the render's pass of centre rays for the AOVs.
+    assert_eq!(v["camera_rays"].as_u64(), Some(16 * 12 * 5));
+    let ms = v["render_ms_median"].as_f64().unwrap();
+    let sps = v["msamples_per_second"].as_f64().unwrap();
+    assert!((sps * ms * 1e3 - 16.0 * 12.0 * 4.0).abs() < 1e-6, "{v}");
+    for (bad, message) in [
+        (vec!["--spp", "0"], "--spp must be at least 1"),
+        (vec!["--max-depth", "-2"], "--max-depth: expected -1"),
+        (vec!["--frames", "0"], "--frames must be at least 1"),
+    ] {
+        let mut args = vec!["bench", "--scene", "path.xml"];
+        args.extend(bad);
+        let out = appel(&args, dir.path());
+        assert_eq!(out.status.code(), Some(1));
+        assert!(stderr(&out).contains(message), "{}", stderr(&out));
+    }
+    let out = appel(&["bench", "--scene", "whitted", "--spp", "4"], dir.path());
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("--spp applies to the path and direct integrators"));
+}

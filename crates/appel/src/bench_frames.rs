@@ -1,10 +1,11 @@
 //! The real-time measurement behind `appel bench --scene NAME --frames N`: render the same scene N
 //! times, each frame from scratch (every ray traced again, a new film, nothing carried over), and
-//! report the frame time, frames per second and the rays of one frame by kind.
+//! report the frame time, frames per second and the rays of one frame by kind. For the Monte Carlo
+//! integrators (path, direct), [`bench_samples`] reports samples per second instead.
 
 use crate::error::{Error, Result};
 use crate::render::{render, RayCounts, RenderOptions};
-use crate::scene::Scene;
+use crate::scene::{IntegratorKind, Scene};
 use std::time::Instant;
 
 /// What `N` frames of one scene took.
@@ -89,6 +90,92 @@ pub fn bench_frames(
     })
 }
 
+/// What `runs` renders of one path-traced (or directly lit) scene took.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SampleBench {
+    pub scene: String,
+    pub integrator: String,
+    pub accel: String,
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    /// Mitsuba's convention: -1 is unlimited.
+    pub max_depth: i32,
+    pub threads: usize,
+    pub runs: usize,
+    /// Median wall-clock time of one whole render, in milliseconds.
+    pub render_ms_median: f64,
+    pub render_ms_min: f64,
+    pub render_ms_max: f64,
+    /// `width * height * spp / median render time`, in millions.
+    pub msamples_per_second: f64,
+    /// Rays of the median render by kind (paths are random, so renders may differ slightly).
+    pub camera_rays: u64,
+    pub shadow_rays: u64,
+    pub reflection_rays: u64,
+    pub refraction_rays: u64,
+    pub rays_per_render: u64,
+    pub rays_per_sample: f64,
+    /// Rays of the median render divided by its time.
+    pub mrays_per_second: f64,
+}
+
+/// Renders a path or direct `scene` `runs` times on `pool` at the scene's samples per pixel, and
+/// reports samples per second from the median render time. `name` labels the result.
+pub fn bench_samples(
+    scene: &Scene,
+    name: &str,
+    runs: usize,
+    pool: &rayon::ThreadPool,
+) -> Result<SampleBench> {
+    if runs == 0 {
+        return Err(Error::Invalid("--frames must be at least 1".into()));
+    }
+    let integrator = match scene.settings.integrator {
+        IntegratorKind::Path => "path",
+        IntegratorKind::Direct => "direct",
+        other => {
+            return Err(Error::Invalid(format!(
+                "samples per second are measured for the path and direct integrators, not {other:?}"
+            )))
+        }
+    };
+    let options = RenderOptions::default();
+    let mut renders = Vec::with_capacity(runs);
+    for _ in 0..runs {
+        let start = Instant::now();
+        let (film, stats) = pool.install(|| render(scene, &options))?;
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        std::hint::black_box(&film);
+        renders.push((ms, stats.rays, stats.spp));
+    }
+    renders.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (median, rays, spp) = renders[renders.len() / 2];
+    let samples = scene.camera.width as f64 * scene.camera.height as f64 * spp as f64;
+    Ok(SampleBench {
+        scene: name.to_string(),
+        integrator: integrator.to_string(),
+        accel: scene.settings.accel.name().to_string(),
+        width: scene.camera.width,
+        height: scene.camera.height,
+        spp,
+        max_depth: scene.settings.max_depth,
+        threads: pool.current_num_threads(),
+        runs,
+        render_ms_median: median,
+        render_ms_min: renders[0].0,
+        render_ms_max: renders[renders.len() - 1].0,
+        msamples_per_second: samples / median / 1e3,
+        camera_rays: rays.camera,
+        shadow_rays: rays.shadow,
+        reflection_rays: rays.reflection,
+        refraction_rays: rays.refraction,
+        rays_per_render: rays.total(),
+        rays_per_sample: rays.total() as f64 / samples.max(1.0),
+        mrays_per_second: rays.total() as f64 / median / 1e3,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -124,5 +211,31 @@ mod tests {
         assert!(b.frame_ms_min <= b.frame_ms_median && b.frame_ms_median <= b.frame_ms_max);
         assert!((b.fps * b.frame_ms_median - 1e3).abs() < 1e-6);
         assert!(bench_frames(&scene, "whitted", 0, &pool).is_err());
+    }
+
+    #[test]
+    fn samples_per_second_count_every_pixel_and_sample() {
+        let text = builtin_scene("whitted").unwrap();
+        let mut d = description_from_str(text, Syntax::Toml, Path::new("whitted")).unwrap();
+        (d.camera.width, d.camera.height) = (32, 24);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let whitted = Scene::new(&d, Path::new(".")).unwrap();
+        assert!(bench_samples(&whitted, "whitted", 1, &pool).is_err());
+        d.render.integrator = IntegratorKind::Path;
+        d.render.spp = 4;
+        d.render.max_depth = 4;
+        let scene = Scene::new(&d, Path::new(".")).unwrap();
+        let b = bench_samples(&scene, "whitted", 3, &pool).unwrap();
+        assert_eq!((b.integrator.as_str(), b.spp, b.runs), ("path", 4, 3));
+        // One ray per sample, and the render's pass of centre rays for the AOVs.
+        assert_eq!(b.camera_rays, 32 * 24 * (4 + 1));
+        assert!(b.shadow_rays > 0);
+        assert!(b.render_ms_min <= b.render_ms_median && b.render_ms_median <= b.render_ms_max);
+        let expected = 32.0 * 24.0 * 4.0 / b.render_ms_median / 1e3;
+        assert!((b.msamples_per_second - expected).abs() < 1e-9);
+        assert!(bench_samples(&scene, "whitted", 0, &pool).is_err());
     }
 }
