@@ -468,9 +468,9 @@ fn bench_json_reports_every_structure_with_the_documented_keys() {
     }
     // Brute force tests every primitive for every ray; the others far fewer.
     assert!(rows[0].contains("\"tests_per_ray\":2000.0"), "{}", rows[0]);
-    let bad = appel(&["bench", "uniform", "--accel", "octree"], dir.path());
+    let bad = appel(&["bench", "uniform", "--accel", "rtree"], dir.path());
     assert_eq!(bad.status.code(), Some(1));
-    assert!(stderr(&bad).contains("unknown structure `octree`"));
+    assert!(stderr(&bad).contains("unknown structure `rtree`"));
 }
 
 #[test]
