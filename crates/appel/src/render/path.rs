@@ -6,7 +6,7 @@
 
 use super::progressive::SampleIntegrator;
 use super::sampler::Sampler;
-use super::{surface_hit, SurfaceHit, TraceContext};
+use super::{SurfaceHit, TraceContext};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::scene::{Scene, NO_EMITTER, NO_INSTANCE};
@@ -244,7 +244,12 @@ fn intersect_through_masks<S: Sampler>(
     let mut ray = *ray;
     for _ in 0..MAX_MASK_CROSSINGS {
         let hit = scene.intersect(&ray, f32::INFINITY, &mut ctx.traversal)?;
-        let h = surface_hit(scene, &ray, hit);
+        // Always with texture coordinates: `surface_hit` asks Whitted's view of the material,
+        // which knows nothing of the physically based materials' textures.
+        let h = SurfaceHit {
+            hit,
+            si: scene.geometry.interaction_with(&ray, &hit, true),
+        };
         if !scene.has_masks {
             return Some(h);
         }
@@ -285,7 +290,10 @@ fn visible<S: Sampler>(
         let Some(hit) = scene.intersect(&ray, t_left, &mut ctx.traversal) else {
             return true;
         };
-        let h = surface_hit(scene, &ray, hit);
+        let h = SurfaceHit {
+            hit,
+            si: scene.geometry.interaction_with(&ray, &hit, true),
+        };
         let opacity = Material::opacity(
             &scene.shading_materials,
             scene.geometry.material(&h.hit),
