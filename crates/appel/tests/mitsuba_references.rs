@@ -3,7 +3,7 @@
 
 mod reference;
 
-use reference::{compare, reference, render_xml, shared, Setup};
+use reference::{compare, reference, render_xml, save_side_by_side, shared, Setup};
 
 fn check(scene: &str, reference_exr: &str, setup: Setup) {
     let (Some(scene), Some(ref_path)) = (shared(scene), shared(reference_exr)) else {
@@ -12,6 +12,7 @@ fn check(scene: &str, reference_exr: &str, setup: Setup) {
     let film = render_xml(&scene, &setup);
     let r = reference(&ref_path, film.width, film.height);
     let c = compare(&film, &r);
+    save_side_by_side(&scene.file_stem().unwrap().to_string_lossy(), &film, &r);
     eprintln!("{}: {c:?}", scene.display());
     assert!(c.passes(), "{}: {c:?}", scene.display());
 }
@@ -77,6 +78,26 @@ fn roughplastic_linear() {
 #[test]
 fn roughplastic_nonlinear() {
     sphere_test("roughplastic_nonlinear", 256);
+}
+
+#[test]
+fn textured_diffuse() {
+    sphere_test("textured_diffuse", 256);
+}
+
+#[test]
+fn texturedprincipled1() {
+    sphere_test("texturedprincipled1", 256);
+}
+
+#[test]
+fn texturedprincipled2() {
+    sphere_test("texturedprincipled2", 256);
+}
+
+#[test]
+fn texturedprincipledthin() {
+    sphere_test("texturedprincipledthin", 256);
 }
 
 fn scene_test(name: &str, spp: u32) {

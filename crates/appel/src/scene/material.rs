@@ -150,6 +150,17 @@ fn whitted_equivalent(
             shininess: 30.0,
             ..base
         },
+        // The diffuse base, with the glossy lobe as a highlight.
+        MaterialDesc::Principled(m) => WhittedDesc {
+            color: grey(&m.base_color),
+            specular: 0.5,
+            shininess: 50.0,
+            ..base
+        },
+        MaterialDesc::PrincipledThin(m) => WhittedDesc {
+            color: grey(&m.base_color),
+            ..base
+        },
         MaterialDesc::TwoSided(t) => nested(&t.front),
         MaterialDesc::Mask(m) => nested(&m.material),
     }

@@ -6,8 +6,9 @@ use super::description::{Description, DistributionDesc, IorDesc, MaterialDesc, T
 use super::textures::TextureCache;
 use super::Material as WhittedMaterial;
 use crate::error::{Error, Result};
+use crate::shading::bsdf::principled::specular_to_eta;
 use crate::shading::bsdf::{MicrofacetKind, PlasticParams, RoughPlasticParams};
-use crate::shading::material::{Material, Roughness};
+use crate::shading::material::{Material, PrincipledTextures, PrincipledThinTextures, Roughness};
 use crate::shading::spectra;
 use crate::shading::texture::{Checkerboard, Texture};
 use glam::{Mat3, Vec2, Vec3};
@@ -138,6 +139,58 @@ fn from_description(
                 diffuse,
                 specular,
             }
+        }
+        MaterialDesc::Principled(x) => {
+            // Mitsuba's constructor: a transmitting material (spec_trans given and not a zero
+            // number) never gets eta exactly 1 (no refraction) or specular 0 (the same).
+            let transmits = x.spec_trans != TextureDesc::Value(0.0);
+            let eta = match (x.eta, x.specular) {
+                (Some(eta), _) if transmits && eta == 1.0 => 1.001,
+                (Some(eta), _) => eta,
+                (None, s) => {
+                    let s = s.unwrap_or(0.5);
+                    specular_to_eta(if transmits && s == 0.0 { 1e-3 } else { s })
+                }
+            };
+            Material::Principled(Box::new(PrincipledTextures {
+                base_color: tex(&x.base_color)?,
+                roughness: tex(&x.roughness)?,
+                anisotropic: tex(&x.anisotropic)?,
+                metallic: tex(&x.metallic)?,
+                spec_trans: tex(&x.spec_trans)?,
+                spec_tint: tex(&x.spec_tint)?,
+                sheen: tex(&x.sheen)?,
+                sheen_tint: tex(&x.sheen_tint)?,
+                flatness: tex(&x.flatness)?,
+                clearcoat: tex(&x.clearcoat)?,
+                clearcoat_gloss: tex(&x.clearcoat_gloss)?,
+                eta,
+                rates: [
+                    x.diffuse_reflectance_sampling_rate,
+                    x.main_specular_sampling_rate,
+                    x.clearcoat_sampling_rate,
+                ],
+            }))
+        }
+        MaterialDesc::PrincipledThin(x) => {
+            Material::PrincipledThin(Box::new(PrincipledThinTextures {
+                base_color: tex(&x.base_color)?,
+                roughness: tex(&x.roughness)?,
+                anisotropic: tex(&x.anisotropic)?,
+                spec_trans: tex(&x.spec_trans)?,
+                spec_tint: tex(&x.spec_tint)?,
+                sheen: tex(&x.sheen)?,
+                sheen_tint: tex(&x.sheen_tint)?,
+                flatness: tex(&x.flatness)?,
+                diff_trans: tex(&x.diff_trans)?,
+                eta: tex(&x.eta)?,
+                rates: [
+                    x.specular_reflectance_sampling_rate,
+                    x.specular_transmittance_sampling_rate,
+                    x.diffuse_reflectance_sampling_rate,
+                    x.diffuse_transmittance_sampling_rate,
+                ],
+            }))
         }
         MaterialDesc::TwoSided(t) => Material::TwoSided {
             front: index(&t.front),

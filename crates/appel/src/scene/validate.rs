@@ -250,6 +250,55 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
     for (k, t) in m.textures() {
         c.at(key(k), |c| texture(c, t))?;
     }
+    if let MaterialDesc::Principled(p) = m {
+        if p.eta.is_some() && p.specular.is_some() {
+            return c.fail("eta", "give `eta` or `specular`, not both");
+        }
+        if let Some(eta) = p.eta {
+            c.positive("eta", eta)?;
+        }
+        if let Some(s) = p.specular {
+            // eta = 2 / (1 - sqrt(0.08 s)) - 1 is finite and at least 1 for s in [0, 12.5).
+            if !(0.0..12.5).contains(&s) {
+                return c.fail(
+                    "specular",
+                    format!("`specular` must lie in [0, 12.5), got {s}"),
+                );
+            }
+        }
+        for (k, v) in [
+            (
+                "diffuse_reflectance_sampling_rate",
+                p.diffuse_reflectance_sampling_rate,
+            ),
+            ("main_specular_sampling_rate", p.main_specular_sampling_rate),
+            ("clearcoat_sampling_rate", p.clearcoat_sampling_rate),
+        ] {
+            c.non_negative(k, &[v])?;
+        }
+    }
+    if let MaterialDesc::PrincipledThin(p) = m {
+        for (k, v) in [
+            (
+                "specular_reflectance_sampling_rate",
+                p.specular_reflectance_sampling_rate,
+            ),
+            (
+                "specular_transmittance_sampling_rate",
+                p.specular_transmittance_sampling_rate,
+            ),
+            (
+                "diffuse_reflectance_sampling_rate",
+                p.diffuse_reflectance_sampling_rate,
+            ),
+            (
+                "diffuse_transmittance_sampling_rate",
+                p.diffuse_transmittance_sampling_rate,
+            ),
+        ] {
+            c.non_negative(k, &[v])?;
+        }
+    }
     for (k, r) in match m {
         MaterialDesc::TwoSided(t) => vec![("front", Some(&t.front)), ("back", t.back.as_ref())],
         MaterialDesc::Mask(mask) => vec![("material", Some(&mask.material))],

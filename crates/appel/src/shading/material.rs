@@ -4,7 +4,8 @@
 
 use super::bsdf::{
     Bsdf, Conductor, Dielectric, Diffuse, Microfacet, MicrofacetKind, Plastic, PlasticParams,
-    RoughConductor, RoughDielectric, RoughPlastic, RoughPlasticParams, ThinDielectric,
+    Principled, PrincipledThin, RoughConductor, RoughDielectric, RoughPlastic, RoughPlasticParams,
+    ThinDielectric,
 };
 use super::texture::Texture;
 use crate::math::{Vec2, Vec3};
@@ -51,6 +52,10 @@ pub enum Material {
         diffuse: Texture,
         specular: Texture,
     },
+    /// Mitsuba's `principled` (Burley's Disney BSDF); `eta` is resolved from `specular` at load.
+    Principled(Box<PrincipledTextures>),
+    /// Mitsuba's `principledthin`.
+    PrincipledThin(Box<PrincipledThinTextures>),
     /// One-sided materials seen from both sides: `front` from the front, `back` from behind (both
     /// indices into the scene's materials).
     TwoSided {
@@ -62,6 +67,43 @@ pub enum Material {
         opacity: Texture,
         inner: u32,
     },
+}
+
+/// The textured parameters of [`Material::Principled`] (boxed: they are many, and the other
+/// materials should not pay for their size).
+#[derive(Clone, Debug)]
+pub struct PrincipledTextures {
+    pub base_color: Texture,
+    pub roughness: Texture,
+    pub anisotropic: Texture,
+    pub metallic: Texture,
+    pub spec_trans: Texture,
+    pub spec_tint: Texture,
+    pub sheen: Texture,
+    pub sheen_tint: Texture,
+    pub flatness: Texture,
+    pub clearcoat: Texture,
+    pub clearcoat_gloss: Texture,
+    pub eta: f32,
+    /// Diffuse, main specular and clearcoat sampling rates.
+    pub rates: [f32; 3],
+}
+
+/// The textured parameters of [`Material::PrincipledThin`].
+#[derive(Clone, Debug)]
+pub struct PrincipledThinTextures {
+    pub base_color: Texture,
+    pub roughness: Texture,
+    pub anisotropic: Texture,
+    pub spec_trans: Texture,
+    pub spec_tint: Texture,
+    pub sheen: Texture,
+    pub sheen_tint: Texture,
+    pub flatness: Texture,
+    pub diff_trans: Texture,
+    pub eta: Texture,
+    /// Specular reflection and transmission, diffuse reflection and transmission sampling rates.
+    pub rates: [f32; 4],
 }
 
 /// A microfacet distribution whose roughness may vary over the surface.
@@ -200,6 +242,39 @@ impl Material {
                 diffuse.eval(uv),
                 specular.eval(uv),
             )),
+            Material::Principled(p) => Bsdf::Principled(Principled {
+                base_color: p.base_color.eval(uv),
+                roughness: p.roughness.eval_1(uv),
+                anisotropic: p.anisotropic.eval_1(uv),
+                metallic: p.metallic.eval_1(uv),
+                spec_trans: p.spec_trans.eval_1(uv),
+                spec_tint: p.spec_tint.eval_1(uv),
+                sheen: p.sheen.eval_1(uv),
+                sheen_tint: p.sheen_tint.eval_1(uv),
+                flatness: p.flatness.eval_1(uv),
+                clearcoat: p.clearcoat.eval_1(uv),
+                clearcoat_gloss: p.clearcoat_gloss.eval_1(uv),
+                eta: p.eta,
+                diffuse_rate: p.rates[0],
+                specular_rate: p.rates[1],
+                clearcoat_rate: p.rates[2],
+            }),
+            Material::PrincipledThin(p) => Bsdf::PrincipledThin(PrincipledThin {
+                base_color: p.base_color.eval(uv),
+                roughness: p.roughness.eval_1(uv),
+                anisotropic: p.anisotropic.eval_1(uv),
+                spec_trans: p.spec_trans.eval_1(uv),
+                spec_tint: p.spec_tint.eval_1(uv),
+                sheen: p.sheen.eval_1(uv),
+                sheen_tint: p.sheen_tint.eval_1(uv),
+                flatness: p.flatness.eval_1(uv),
+                diff_trans: p.diff_trans.eval_1(uv),
+                eta: p.eta.eval_1(uv),
+                spec_reflect_rate: p.rates[0],
+                spec_trans_rate: p.rates[1],
+                diffuse_reflect_rate: p.rates[2],
+                diffuse_trans_rate: p.rates[3],
+            }),
             // Resolved by `bsdf`; reached only past the nesting bound, as black.
             Material::TwoSided { .. } | Material::Mask { .. } => {
                 Bsdf::Diffuse(Diffuse::new(Vec3::ZERO))

@@ -242,3 +242,48 @@ pub fn compare(film: &Averaged, reference: &[[f32; 3]]) -> Comparison {
         ratio_tolerance,
     }
 }
+
+/// With `APPEL_REFERENCE_PNG=<folder>` set, writes `<name>.png`: ours, the reference, and their
+/// difference magnified 4x (grey is zero), each pixel drawn 4x4, sRGB, so that a failing
+/// comparison can be looked at.
+pub fn save_side_by_side(name: &str, film: &Averaged, reference: &[[f32; 3]]) {
+    let Ok(dir) = std::env::var("APPEL_REFERENCE_PNG") else {
+        return;
+    };
+    let (w, h, s) = (film.width, film.height, 4u32);
+    let srgb = |v: f32| {
+        let v = v.clamp(0.0, 1.0);
+        let e = if v <= 0.003_130_8 {
+            12.92 * v
+        } else {
+            1.055 * v.powf(1.0 / 2.4) - 0.055
+        };
+        (e * 255.0).round() as u8
+    };
+    let mut img = image::RgbImage::new(3 * w * s, h * s);
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            let ours = film.rgb[i];
+            let r = reference[i];
+            let diff: [f32; 3] = std::array::from_fn(|c| 0.5 + 4.0 * (ours[c] - r[c]));
+            for (k, p) in [ours, r, diff].into_iter().enumerate() {
+                let px = image::Rgb(p.map(|v| {
+                    if k == 2 {
+                        (v.clamp(0.0, 1.0) * 255.0) as u8
+                    } else {
+                        srgb(v)
+                    }
+                }));
+                for dy in 0..s {
+                    for dx in 0..s {
+                        img.put_pixel(k as u32 * w * s + x * s + dx, y * s + dy, px);
+                    }
+                }
+            }
+        }
+    }
+    let path = std::path::Path::new(&dir).join(format!("{name}.png"));
+    img.save(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+}

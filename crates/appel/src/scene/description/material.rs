@@ -27,6 +27,11 @@ pub enum MaterialDesc {
     Plastic(PlasticDesc),
     /// A diffuse base under a rough dielectric coating.
     RoughPlastic(RoughPlasticDesc),
+    /// Burley's Disney BSDF as Mitsuba's `principled`: diffuse with retro-reflection and sheen,
+    /// a GGX specular lobe blending dielectric, metallic and transmitting responses, a clearcoat.
+    Principled(PrincipledDesc),
+    /// Mitsuba's `principledthin`: the Disney BSDF of a thin sheet (leaves, paper, fabric).
+    PrincipledThin(PrincipledThinDesc),
     /// Makes one-sided materials two-sided: `front` on both sides, or `back` behind.
     TwoSided(TwoSidedDesc),
     /// Cut-outs: the surface is there with probability `opacity`, else rays pass through.
@@ -117,6 +122,31 @@ impl MaterialDesc {
                 opt("alpha_v", &p.alpha_v),
             ],
             MaterialDesc::Mask(m) => vec![Some(("opacity", &m.opacity))],
+            MaterialDesc::Principled(p) => vec![
+                Some(("base_color", &p.base_color)),
+                Some(("roughness", &p.roughness)),
+                Some(("anisotropic", &p.anisotropic)),
+                Some(("metallic", &p.metallic)),
+                Some(("spec_trans", &p.spec_trans)),
+                Some(("spec_tint", &p.spec_tint)),
+                Some(("sheen", &p.sheen)),
+                Some(("sheen_tint", &p.sheen_tint)),
+                Some(("flatness", &p.flatness)),
+                Some(("clearcoat", &p.clearcoat)),
+                Some(("clearcoat_gloss", &p.clearcoat_gloss)),
+            ],
+            MaterialDesc::PrincipledThin(p) => vec![
+                Some(("base_color", &p.base_color)),
+                Some(("roughness", &p.roughness)),
+                Some(("anisotropic", &p.anisotropic)),
+                Some(("spec_trans", &p.spec_trans)),
+                Some(("spec_tint", &p.spec_tint)),
+                Some(("sheen", &p.sheen)),
+                Some(("sheen_tint", &p.sheen_tint)),
+                Some(("flatness", &p.flatness)),
+                Some(("diff_trans", &p.diff_trans)),
+                Some(("eta", &p.eta)),
+            ],
         };
         t.into_iter().flatten().collect()
     }
@@ -379,6 +409,87 @@ rough_fields! {
     }
 }
 
+/// Mitsuba's `principled`, key for key: every weight is a texture in [0, 1] (Burley 2012).
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PrincipledDesc {
+    #[serde(default = "half")]
+    pub base_color: TextureDesc,
+    #[serde(default = "half")]
+    pub roughness: TextureDesc,
+    /// 0: isotropic; towards 1, stretched along the surface's u tangent.
+    #[serde(default = "zero")]
+    pub anisotropic: TextureDesc,
+    #[serde(default = "zero")]
+    pub metallic: TextureDesc,
+    /// The share of the dielectric part that transmits (rough glass) instead of diffusing.
+    #[serde(default = "zero")]
+    pub spec_trans: TextureDesc,
+    #[serde(default = "zero")]
+    pub spec_tint: TextureDesc,
+    #[serde(default = "zero")]
+    pub sheen: TextureDesc,
+    #[serde(default = "zero")]
+    pub sheen_tint: TextureDesc,
+    /// Blends the diffuse lobe towards Burley's fake subsurface term.
+    #[serde(default = "zero")]
+    pub flatness: TextureDesc,
+    #[serde(default = "zero")]
+    pub clearcoat: TextureDesc,
+    #[serde(default = "zero")]
+    pub clearcoat_gloss: TextureDesc,
+    /// Relative IOR of the dielectric part (inside over outside); give this or `specular`, not
+    /// both.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eta: Option<f32>,
+    /// Reflectance at normal incidence as `0.08 specular` (0.5 by default: eta 1.5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub specular: Option<f32>,
+    #[serde(default = "one_f")]
+    pub diffuse_reflectance_sampling_rate: f32,
+    #[serde(default = "one_f")]
+    pub main_specular_sampling_rate: f32,
+    #[serde(default = "one_f")]
+    pub clearcoat_sampling_rate: f32,
+}
+
+/// Mitsuba's `principledthin`, key for key.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PrincipledThinDesc {
+    #[serde(default = "half")]
+    pub base_color: TextureDesc,
+    #[serde(default = "half")]
+    pub roughness: TextureDesc,
+    #[serde(default = "zero")]
+    pub anisotropic: TextureDesc,
+    /// The share of specular (reflection and straight transmission) against diffuse scattering.
+    #[serde(default = "zero")]
+    pub spec_trans: TextureDesc,
+    #[serde(default = "zero")]
+    pub spec_tint: TextureDesc,
+    #[serde(default = "zero")]
+    pub sheen: TextureDesc,
+    #[serde(default = "zero")]
+    pub sheen_tint: TextureDesc,
+    #[serde(default = "zero")]
+    pub flatness: TextureDesc,
+    /// Diffuse transmission, from 0 (none) to 2 (all of the diffuse part).
+    #[serde(default = "zero")]
+    pub diff_trans: TextureDesc,
+    /// The sheet's IOR.
+    #[serde(default = "one_and_a_half")]
+    pub eta: TextureDesc,
+    #[serde(default = "one_f")]
+    pub specular_reflectance_sampling_rate: f32,
+    #[serde(default = "one_f")]
+    pub specular_transmittance_sampling_rate: f32,
+    #[serde(default = "one_f")]
+    pub diffuse_reflectance_sampling_rate: f32,
+    #[serde(default = "one_f")]
+    pub diffuse_transmittance_sampling_rate: f32,
+}
+
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct TwoSidedDesc {
@@ -402,6 +513,15 @@ fn half() -> TextureDesc {
 }
 fn one() -> TextureDesc {
     TextureDesc::Value(1.0)
+}
+fn zero() -> TextureDesc {
+    TextureDesc::Value(0.0)
+}
+fn one_and_a_half() -> TextureDesc {
+    TextureDesc::Value(1.5)
+}
+fn one_f() -> f32 {
+    1.0
 }
 fn yes() -> bool {
     true

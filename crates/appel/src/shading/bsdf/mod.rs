@@ -1,6 +1,6 @@
 //! The BSDFs of the path tracer, matching Mitsuba 3's plugins of the same names (RGB mode,
 //! radiance transport): `diffuse`, `conductor`, `roughconductor`, `dielectric`, `thindielectric`,
-//! `roughdielectric`, `plastic`, `roughplastic`.
+//! `roughdielectric`, `plastic`, `roughplastic`, `principled`, `principledthin`.
 //!
 //! Directions are in the local shading frame (`z` = shading normal, see
 //! [`crate::shading::frame::ShadingFrame`]), unit length, both pointing away from the surface: `wo`
@@ -19,6 +19,8 @@ mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
 mod plastic;
+pub mod principled;
+mod principledthin;
 mod roughconductor;
 mod roughdielectric;
 mod roughplastic;
@@ -33,6 +35,8 @@ pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use microfacet::{Microfacet, MicrofacetKind};
 pub use plastic::{Plastic, PlasticParams};
+pub use principled::Principled;
+pub use principledthin::PrincipledThin;
 pub use roughconductor::RoughConductor;
 pub use roughdielectric::RoughDielectric;
 pub use roughplastic::{RoughPlastic, RoughPlasticParams, TRANSMITTANCE_RES};
@@ -113,6 +117,8 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     Plastic(Plastic),
     RoughPlastic(RoughPlastic),
+    Principled(Principled),
+    PrincipledThin(PrincipledThin),
 }
 
 macro_rules! dispatch {
@@ -126,6 +132,8 @@ macro_rules! dispatch {
             Bsdf::RoughDielectric($b) => $e,
             Bsdf::Plastic($b) => $e,
             Bsdf::RoughPlastic($b) => $e,
+            Bsdf::Principled($b) => $e,
+            Bsdf::PrincipledThin($b) => $e,
         }
     };
 }

@@ -34,6 +34,21 @@ impl Checkerboard {
             self.color1
         }
     }
+
+    /// The float query (a roughness, a weight): Mitsuba 3's `eval_1` picks the squares the other
+    /// way round from its `eval` (`color0` where exactly one fraction is above one half;
+    /// measured in Mitsuba 3.9.1 and in its `checkerboard.cpp`). Its reference images are
+    /// rendered so, and so is this.
+    pub fn eval_1(&self, uv: Vec2) -> f32 {
+        let p = transform_uv(&self.to_uv, uv);
+        let f = p - p.floor();
+        let c = if (f.x > 0.5) != (f.y > 0.5) {
+            self.color0
+        } else {
+            self.color1
+        };
+        (c.x + c.y + c.z) / 3.0
+    }
 }
 
 #[cfg(test)]
@@ -58,6 +73,14 @@ mod tests {
             ((-0.2, 0.3), 1),
         ];
         for ((u, v), which) in expect {
+            // eval_1 takes the other colour (Mitsuba 3.9.1's eval_1 for color0 = 0, color1 = 1:
+            // 1 at (0.01, 0.01) x 25, 0 at (0.03, 0.01) x 25).
+            let one = Checkerboard {
+                color0: Vec3::ZERO,
+                color1: Vec3::ONE,
+                to_uv: Mat3::IDENTITY,
+            };
+            assert_eq!(one.eval_1(Vec2::new(u, v)), (1 - which) as f32, "{u} {v}");
             let want = if which == 0 { c.color0 } else { c.color1 };
             assert_eq!(c.eval(Vec2::new(u, v)), want, "uv ({u}, {v})");
         }

@@ -44,12 +44,13 @@ impl Texture {
 
     /// One value at `uv`, as Mitsuba's `eval_1` reads a float parameter (roughness, opacity) from a
     /// texture: a one-channel bitmap's value, a colour bitmap's luminance, and, for constant
-    /// colours (also the two of a checkerboard), their channel mean.
+    /// colours (also the two of a checkerboard), their channel mean. A checkerboard answers
+    /// with its squares swapped, as Mitsuba's does (see [`Checkerboard::eval_1`]).
     pub fn eval_1(&self, uv: Vec2) -> f32 {
         match self {
             Texture::Constant(c) => channel_mean(*c),
             Texture::Bitmap(b) => b.eval_1(uv),
-            Texture::Checkerboard(c) => channel_mean(c.eval(uv)),
+            Texture::Checkerboard(c) => c.eval_1(uv),
         }
     }
 

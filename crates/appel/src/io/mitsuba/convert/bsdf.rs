@@ -8,13 +8,14 @@ use super::Converter;
 use crate::error::Result;
 use crate::scene::description::{
     ConductorDesc, DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc, MaskDesc, MaterialDesc,
-    PlasticDesc, RoughConductorDesc, RoughDielectricDesc, RoughPlasticDesc, TextureDesc,
-    TextureFilter, TextureNode, TextureWrap, TwoSidedDesc,
+    PlasticDesc, PrincipledDesc, PrincipledThinDesc, RoughConductorDesc, RoughDielectricDesc,
+    RoughPlasticDesc, TextureDesc, TextureFilter, TextureNode, TextureWrap, TwoSidedDesc,
 };
 use std::rc::Rc;
 
 const BSDFS: &str = "diffuse, conductor, roughconductor, dielectric, thindielectric, \
-                     roughdielectric, plastic, roughplastic, twosided, mask";
+                     roughdielectric, plastic, roughplastic, principled, principledthin, \
+                     twosided, mask";
 
 /// Mitsuba's BSDF for shapes without one: diffuse, reflectance 0.5.
 pub(super) fn mitsuba_default() -> MaterialDesc {
@@ -137,6 +138,57 @@ impl Converter<'_> {
                     sample_visible,
                 })
             }
+            "principled" => {
+                if b.prop("eta").is_some() && b.prop("specular").is_some() {
+                    let p = b.prop("specular").expect("present");
+                    return Err(p.error("give either \"eta\" or \"specular\", not both"));
+                }
+                MaterialDesc::Principled(PrincipledDesc {
+                    base_color: tex(self, b, "base_color", 0.5)?,
+                    roughness: tex(self, b, "roughness", 0.5)?,
+                    anisotropic: tex(self, b, "anisotropic", 0.0)?,
+                    metallic: tex(self, b, "metallic", 0.0)?,
+                    spec_trans: tex(self, b, "spec_trans", 0.0)?,
+                    spec_tint: tex(self, b, "spec_tint", 0.0)?,
+                    sheen: tex(self, b, "sheen", 0.0)?,
+                    sheen_tint: tex(self, b, "sheen_tint", 0.0)?,
+                    flatness: tex(self, b, "flatness", 0.0)?,
+                    clearcoat: tex(self, b, "clearcoat", 0.0)?,
+                    clearcoat_gloss: tex(self, b, "clearcoat_gloss", 0.0)?,
+                    eta: b.float("eta")?.map(|v| v as f32),
+                    specular: b.float("specular")?.map(|v| v as f32),
+                    diffuse_reflectance_sampling_rate: b
+                        .float_or("diffuse_reflectance_sampling_rate", 1.0)?
+                        as f32,
+                    main_specular_sampling_rate: b.float_or("main_specular_sampling_rate", 1.0)?
+                        as f32,
+                    clearcoat_sampling_rate: b.float_or("clearcoat_sampling_rate", 1.0)? as f32,
+                })
+            }
+            "principledthin" => MaterialDesc::PrincipledThin(PrincipledThinDesc {
+                base_color: tex(self, b, "base_color", 0.5)?,
+                roughness: tex(self, b, "roughness", 0.5)?,
+                anisotropic: tex(self, b, "anisotropic", 0.0)?,
+                spec_trans: tex(self, b, "spec_trans", 0.0)?,
+                spec_tint: tex(self, b, "spec_tint", 0.0)?,
+                sheen: tex(self, b, "sheen", 0.0)?,
+                sheen_tint: tex(self, b, "sheen_tint", 0.0)?,
+                flatness: tex(self, b, "flatness", 0.0)?,
+                diff_trans: tex(self, b, "diff_trans", 0.0)?,
+                eta: tex(self, b, "eta", 1.5)?,
+                specular_reflectance_sampling_rate: b
+                    .float_or("specular_reflectance_sampling_rate", 1.0)?
+                    as f32,
+                specular_transmittance_sampling_rate: b
+                    .float_or("specular_transmittance_sampling_rate", 1.0)?
+                    as f32,
+                diffuse_reflectance_sampling_rate: b
+                    .float_or("diffuse_reflectance_sampling_rate", 1.0)?
+                    as f32,
+                diffuse_transmittance_sampling_rate: b
+                    .float_or("diffuse_transmittance_sampling_rate", 1.0)?
+                    as f32,
+            }),
             "twosided" => {
                 let nested = self.nested_bsdfs(b)?;
                 match nested.as_slice() {
