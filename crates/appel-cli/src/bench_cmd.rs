@@ -1,10 +1,11 @@
-use crate::scene_args::{load_scene_with, parse_size, ViewArgs};
+use crate::scene_args::{load_scene_with, parse_size, ParamArgs, ViewArgs};
 use anyhow::{anyhow, bail, Result};
 use appel::accel::AccelKind;
 use appel::bench::{
     bench_accel, bench_embree, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget,
     EmbreeBenchOptions, BENCH_SCENES,
 };
+use appel::io::mitsuba::XmlOptions;
 use appel::scene::{Description, SceneOptions};
 use embree_peer::BuildQuality;
 
@@ -31,6 +32,8 @@ pub struct BenchArgs {
     triangles: usize,
     #[command(flatten)]
     view: ViewArgs,
+    #[command(flatten)]
+    params: ParamArgs,
     /// Builds per structure (the median is reported).
     #[arg(long, default_value_t = 3)]
     builds: usize,
@@ -95,7 +98,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
             args.embree_quality
         )
     })?;
-    let mut target = load_target(&args.target, args.triangles, w, h, &args.view)?;
+    let xml = args.params.xml_options()?;
+    let mut target = load_target(&args.target, args.triangles, w, h, &args.view, &xml)?;
     target.accel_options.bvh.compact |= args.bvh_compact;
     target.accel_options.bvh.pairs &= !args.bvh_no_pairs;
     let options = BenchOptions {
@@ -243,8 +247,12 @@ fn load_target(
     w: u32,
     h: u32,
     view: &ViewArgs,
+    xml: &XmlOptions,
 ) -> Result<BenchTarget> {
     if let Some(mut t) = bench_scene(name, triangles, w, h) {
+        if !xml.params.is_empty() {
+            bail!("-D sets parameters of a Mitsuba 3 XML scene; `{name}` is a generated one");
+        }
         if view.eye.is_some() || view.look_at.is_some() || view.up.is_some() || view.fov.is_some() {
             bail!("the camera of a generated benchmark scene is fixed; --size is the only view flag it takes");
         }
@@ -261,7 +269,7 @@ fn load_target(
         skip_top_level: true,
         ..Default::default()
     };
-    let (scene, _) = load_scene_with(Some(name), adjust, skip).map_err(|e| {
+    let (scene, _) = load_scene_with(Some(name), xml, adjust, skip).map_err(|e| {
         anyhow!(
             "{e:#}\n(generated benchmark scenes: {})",
             BENCH_SCENES

@@ -29,7 +29,7 @@ enum Command {
     /// Render a scene file (or a built-in scene) to an image.
     Render(Box<render_cmd::RenderArgs>),
     /// Measure acceleration structures: build time, memory and ray throughput.
-    Bench(bench_cmd::BenchArgs),
+    Bench(Box<bench_cmd::BenchArgs>),
     /// Write a scene's or mesh's triangles as one binary PLY, in Appel's triangle order.
     Convert(convert_cmd::ConvertArgs),
     /// Write a large reproducible scene (ecosystem or city) from a seed.
@@ -45,7 +45,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render_cmd::run(*args),
         Command::Scenes(args) => scenes_cmd::run(args),
-        Command::Bench(args) => bench_cmd::run(args),
+        Command::Bench(args) => bench_cmd::run(*args),
         Command::Convert(args) => convert_cmd::run(args),
         Command::Inside(args) => inside_cmd::run(args),
         Command::Gen(args) => gen_cmd::run(args),

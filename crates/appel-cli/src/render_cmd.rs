@@ -1,4 +1,4 @@
-use crate::scene_args::{load_scene_with, ViewArgs};
+use crate::scene_args::{load_scene_with, ParamArgs, ViewArgs};
 use anyhow::{anyhow, bail, Context, Result};
 use appel::output::image::{write_image, Aovs, ImageFormat};
 use appel::render::{render, RenderOptions};
@@ -47,6 +47,8 @@ pub struct RenderArgs {
     max_depth: Option<i32>,
     #[command(flatten)]
     view: ViewArgs,
+    #[command(flatten)]
+    params: ParamArgs,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
@@ -73,6 +75,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if aovs.any() && ImageFormat::from_path(&args.output)? != ImageFormat::Exr {
         bail!("--aov needs an .exr output: AOVs are written as EXR channels");
     }
+    let xml = args.params.xml_options()?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()
@@ -121,6 +124,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let loaded = pool.install(|| {
         load_scene_with(
             args.scene.as_deref(),
+            &xml,
             |d| apply_settings(d, &args),
             scene_options,
         )

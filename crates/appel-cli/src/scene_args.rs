@@ -3,11 +3,12 @@
 
 use anyhow::{anyhow, bail, Result};
 use appel::io::is_mesh_file;
+use appel::io::mitsuba::XmlOptions;
 use appel::scene::builtin::builtin_scene;
 use appel::scene::parse::Syntax;
 use appel::scene::{
-    description_from_str, frame_model, load_description, model_description, validate, Description,
-    Scene, SceneOptions,
+    description_from_str, frame_model, is_xml, load_description, load_xml_description,
+    model_description, validate, Description, Scene, SceneOptions,
 };
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -53,15 +54,43 @@ impl ViewArgs {
     }
 }
 
+/// `-D NAME=VALUE`: the parameters of a Mitsuba 3 XML scene.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct ParamArgs {
+    /// Set a parameter of a Mitsuba 3 XML scene: `$NAME` in its attributes takes VALUE, over the
+    /// file's `<default name="NAME" .../>` (repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE")]
+    pub define: Vec<String>,
+}
+
+impl ParamArgs {
+    pub fn xml_options(&self) -> Result<XmlOptions> {
+        let params = self
+            .define
+            .iter()
+            .map(|d| match d.split_once('=') {
+                Some((name, value)) if !name.trim().is_empty() => {
+                    Ok((name.trim().to_string(), value.to_string()))
+                }
+                _ => Err(anyhow!(
+                    "-D: expected NAME=VALUE, such as -D spp=16, got `{d}`"
+                )),
+            })
+            .collect::<Result<_>>()?;
+        Ok(XmlOptions { params })
+    }
+}
+
 /// Reads a scene (file, mesh file or built-in), lets `adjust` apply command-line overrides, checks the
 /// result, and builds it on the current thread pool. A mesh file is framed once its bounds are known,
 /// and `adjust` runs again so that camera flags win over the framing. Returns the scene and the time
 /// spent reading and checking the scene file.
 pub fn load_scene(
     name: Option<&str>,
+    xml: &XmlOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
 ) -> Result<(Scene, Duration)> {
-    load_scene_with(name, adjust, SceneOptions::default())
+    load_scene_with(name, xml, adjust, SceneOptions::default())
 }
 
 /// [`load_scene`] with progress reports and cancellation while files load and structures build.
@@ -69,11 +98,12 @@ pub fn load_scene(
 /// available.
 pub fn load_scene_with(
     name: Option<&str>,
+    xml: &XmlOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
     options: SceneOptions,
 ) -> Result<(Scene, Duration)> {
     let start = Instant::now();
-    let (mut description, base_dir, is_model) = read_scene_or_model(name)?;
+    let (mut description, base_dir, is_model) = read_scene_or_model(name, xml)?;
     adjust(&mut description)?;
     check(&description)?;
     crate::memory::check_memory(&description, &base_dir)?;
@@ -93,10 +123,16 @@ fn check(d: &Description) -> Result<()> {
 }
 
 /// A scene file, a mesh file (the flag says so: the caller frames it once the bounds are known),
-/// or a built-in scene by name.
-fn read_scene_or_model(scene: Option<&str>) -> Result<(Description, PathBuf, bool)> {
+/// or a built-in scene by name. `xml` holds the parameters of a Mitsuba scene, and only of one.
+fn read_scene_or_model(
+    scene: Option<&str>,
+    xml: &XmlOptions,
+) -> Result<(Description, PathBuf, bool)> {
     let name = scene.unwrap_or("whitted");
     let path = Path::new(name);
+    if !xml.params.is_empty() && !is_xml(path) {
+        bail!("-D sets parameters of a Mitsuba 3 XML scene (.xml); `{name}` is not one");
+    }
     if is_mesh_file(path) {
         let file = path
             .file_name()
@@ -129,7 +165,11 @@ fn read_scene_or_model(scene: Option<&str>) -> Result<(Description, PathBuf, boo
                 .join(", ")
         );
     }
-    let loaded = load_description(path)?;
+    let loaded = if is_xml(path) {
+        load_xml_description(path, xml)?
+    } else {
+        load_description(path)?
+    };
     Ok((loaded.description, loaded.base_dir, false))
 }
 

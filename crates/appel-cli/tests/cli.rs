@@ -675,3 +675,151 @@ fn bench_scene_reports_samples_per_second_for_a_path_traced_scene() {
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr(&out).contains("--spp applies to the path and direct integrators"));
 }
+
+/// The Bitterli Cornell box in Mitsuba 3's XML, which declares `spp`, `resx`, `resy` and
+/// `max_depth` as `<default>` parameters.
+fn cornell_box_xml() -> Option<PathBuf> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/data/bitterli-scenes/cornell-box/mitsuba/scene_v3.xml");
+    if p.is_file() {
+        Some(p)
+    } else {
+        eprintln!("skipping: {} is not there", p.display());
+        None
+    }
+}
+
+#[test]
+fn define_sets_the_parameters_of_a_mitsuba_scene() {
+    let Some(scene) = cornell_box_xml() else {
+        return;
+    };
+    let scene = scene.to_str().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "render",
+        scene,
+        "-D",
+        "spp=2",
+        "-D",
+        "resx=24",
+        "-D",
+        "resy=16",
+        "-D",
+        "max_depth=3",
+        "-o",
+        "box.png",
+        "--quiet",
+    ];
+    let out = appel(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = image::open(dir.path().join("box.png")).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (24, 16));
+    // The light lands on the walls: not a black image.
+    assert!(img.pixels().any(|p| p.0.iter().any(|&c| c > 64)));
+
+    let args = [
+        "bench",
+        "--scene",
+        scene,
+        "-D",
+        "spp=1",
+        "-D",
+        "resx=16",
+        "-D",
+        "resy=8",
+        "-D",
+        "max_depth=2",
+        "--frames",
+        "1",
+        "--threads",
+        "1",
+        "--json",
+    ];
+    let out = appel(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v: serde_json::Value =
+        serde_json::from_str(String::from_utf8_lossy(&out.stdout).trim()).expect("one JSON object");
+    assert_eq!(
+        (v["width"].as_u64(), v["height"].as_u64()),
+        (Some(16), Some(8)),
+        "{v}"
+    );
+    assert_eq!(
+        (v["spp"].as_u64(), v["max_depth"].as_i64()),
+        (Some(1), Some(2))
+    );
+}
+
+#[test]
+fn define_is_rejected_where_it_cannot_apply() {
+    let Some(scene) = cornell_box_xml() else {
+        return;
+    };
+    let scene = scene.to_str().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("s.toml"), CAMERA).unwrap();
+    for (args, message) in [
+        (
+            vec!["render", scene, "-D", "spp"],
+            "-D: expected NAME=VALUE",
+        ),
+        (vec!["render", scene, "-D", "=4"], "-D: expected NAME=VALUE"),
+        (
+            vec!["render", "s.toml", "-D", "spp=4"],
+            "`s.toml` is not one",
+        ),
+        (
+            vec!["render", "whitted", "-D", "spp=4"],
+            "`whitted` is not one",
+        ),
+        (
+            vec!["bench", "--scene", "s.toml", "-D", "spp=4"],
+            "`s.toml` is not one",
+        ),
+        // A value the file cannot use is reported where it is used.
+        (vec!["render", scene, "-D", "spp=many"], "scene_v3.xml:"),
+    ] {
+        let mut args = args;
+        if args[0] == "render" {
+            args.extend(["-o", "out.png", "--quiet"]);
+        }
+        let out = appel(&args, dir.path());
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains(message), "{args:?}: {}", stderr(&out));
+        assert!(!dir.path().join("out.png").exists());
+    }
+}
+
+#[test]
+fn unknown_shape_type_is_rejected_with_the_choices() {
+    let shapes =
+        "`sphere`, `plane`, `triangle`, `implicit`, `torus`, `mesh`, `rectangle`, `cube`, `disk`";
+    assert_rejected(
+        "t.toml",
+        &format!("{CAMERA}[[shape]]\ntype = \"sphre\"\ncenter = [0.0, 0.0, 0.0]\n"),
+        &["t.toml:5:8", "unknown variant `sphre`", shapes],
+    );
+    assert_rejected(
+        "t.json",
+        r#"{"camera": {"eye": [0, 1, 5], "look_at": [0, 0, 0]},
+"shape": [{"type": "sphere", "center": [0, 0, 0], "radius": 1},
+          {"type": "sphre", "center": [0, 0, 0]}]}"#,
+        &["t.json:3:", "unknown variant `sphre`", shapes],
+    );
+    // Keys that belong to another kind of shape are named, with the keys this kind takes.
+    assert_rejected(
+        "k.toml",
+        &format!(
+            "{CAMERA}[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nsize = [1.0, 2.0]\n"
+        ),
+        &["k.toml:", "unknown field `size`", "`center`, `radius`"],
+    );
+    assert_rejected(
+        "e.toml",
+        &format!(
+            "{CAMERA}[[shape]]\ntype = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\nemitter = {{ radiance = 1.0 }}\n"
+        ),
+        &["e.toml:", "unknown field `emitter`", "`point`, `normal`"],
+    );
+}

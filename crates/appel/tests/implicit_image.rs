@@ -124,7 +124,7 @@ bounds = [[-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]]
     let e = description_from_str(&missing, Syntax::Toml, std::path::Path::new("s.toml"))
         .unwrap_err()
         .to_string();
-    assert!(e.contains("needs `bounds`"), "{e}");
+    assert!(e.contains("missing field `bounds`"), "{e}");
 
     let torus = r#"
 [camera]

@@ -82,9 +82,9 @@ fn mesh_keys_are_checked_per_type() {
     let dir = tempfile::tempdir().unwrap();
     unit_triangle_ply(dir.path());
     let cases = [
-        ("[[shape]]\ntype = \"mesh\"\n", "a mesh needs `file`"),
-        ("[[shape]]\ntype = \"mesh\"\nfile = \"meshes/tri.ply\"\nradius = 1.0\n", "a mesh has no `radius`"),
-        ("[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nfile = \"meshes/tri.ply\"\n", "a sphere has no `file`"),
+        ("[[shape]]\ntype = \"mesh\"\n", "missing field `file`"),
+        ("[[shape]]\ntype = \"mesh\"\nfile = \"meshes/tri.ply\"\nradius = 1.0\n", "unknown field `radius`"),
+        ("[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nfile = \"meshes/tri.ply\"\n", "unknown field `file`"),
         ("[[shape]]\ntype = \"mesh\"\nfile = \"meshes/tri.ply\"\ntransform = { scale = 0.0 }\n", "`scale` must not be zero"),
         ("[[shape]]\ntype = \"mesh\"\nfile = \"meshes/tri.ply\"\ntransform = { rotate = { axis = [0.0, 0.0, 0.0], degrees = 3.0 } }\n", "`axis` must be a non-zero vector"),
         ("[[shape]]\ntype = \"mesh\"\nfile = \"meshes/tri.ply\"\ntransform = { shear = 1.0 }\n", "unknown field `shear`"),

@@ -27,9 +27,10 @@ pub fn run(scene_name: &str, args: &BenchArgs) -> Result<()> {
             .collect(),
         None => vec![None],
     };
+    let xml = args.params.xml_options()?;
     for accel in accels {
         let (scene, _) = pool.install(|| {
-            load_scene(Some(scene_name), |d| {
+            load_scene(Some(scene_name), &xml, |d| {
                 adjust(d, args)?;
                 if let Some(a) = accel {
                     d.render.accel = a.to_string();

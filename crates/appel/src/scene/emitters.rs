@@ -34,7 +34,7 @@ impl SceneEmitters {
         let mut emitters = Vec::new();
         let mut of_shape = vec![NO_EMITTER; geometry.shapes.len()];
         for (index, s) in d.shapes.iter().enumerate() {
-            let Some(e) = &s.emitter else { continue };
+            let Some(e) = s.emitter() else { continue };
             let radiance = textures.texture(&e.radiance)?;
             // Every surface the `[[shape]]` became (a mesh file may be several) emits as one light.
             let surfaces: Vec<usize> = (0..geometry.shapes.len())

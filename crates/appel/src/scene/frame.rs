@@ -1,7 +1,7 @@
 //! A scene for a bare mesh file (`appel render model.ply`): the camera, lights and background that
 //! show the model whole.
 
-use super::description::{CameraDesc, Description, LightDesc, ShapeDesc};
+use super::description::{CameraDesc, Description, LightDesc, MeshShapeDesc, ShapeDesc};
 use crate::math::{Aabb, Vec3};
 
 /// The direction from the model's centre to the camera: a diagonal from the front right, above.
@@ -95,11 +95,10 @@ pub fn model_description(file: &str) -> Description {
         materials: Default::default(),
         meshes: Default::default(),
         instances: vec![],
-        shapes: vec![ShapeDesc {
-            kind: "mesh".into(),
-            file: Some(file.into()),
+        shapes: vec![ShapeDesc::Mesh(MeshShapeDesc {
+            file: file.into(),
             ..Default::default()
-        }],
+        })],
         lights: vec![],
     };
     frame_model(&base, Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0)))

@@ -2,7 +2,7 @@
 //! before anything large is loaded, so that a scene too large for the machine fails at once with
 //! a clear message instead of being killed by the kernel half-way through a long build.
 
-use super::description::Description;
+use super::description::{Description, ShapeDesc};
 use crate::error::Result;
 use crate::io::mesh_file::MeshFormat;
 use crate::io::ply::read_ply_counts;
@@ -87,9 +87,9 @@ pub fn estimate_memory(d: &Description, base_dir: &Path) -> Result<MemoryEstimat
     let mut top_level = 0u64;
     let mut largest_structure = 0u64;
     for s in &d.shapes {
-        let (t, v) = match &s.file {
-            Some(f) => mesh_counts(&base_dir.join(f))?,
-            None => (1, 3),
+        let (t, v) = match s {
+            ShapeDesc::Mesh(m) => mesh_counts(&base_dir.join(&m.file))?,
+            _ => (1, 3),
         };
         e.triangles += t;
         top_level += t;

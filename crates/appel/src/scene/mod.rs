@@ -22,6 +22,7 @@ pub mod validate;
 
 pub use camera::Camera;
 pub use description::Description;
+use description::ShapeDesc;
 pub use emitters::{SceneEmitters, NO_EMITTER};
 pub use frame::{frame_model, model_description};
 pub use geometry::{
@@ -154,7 +155,8 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
     })
 }
 
-fn is_xml(path: &Path) -> bool {
+/// Whether `path` names a Mitsuba 3 XML scene (by its extension).
+pub fn is_xml(path: &Path) -> bool {
     path.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("xml"))
@@ -241,7 +243,11 @@ impl Scene {
             .keys()
             .filter(|name| d.instances.iter().any(|i| &i.mesh == *name))
             .count() as u64;
-        let mesh_shapes = d.shapes.iter().filter(|s| s.file.is_some()).count() as u64;
+        let mesh_shapes = d
+            .shapes
+            .iter()
+            .filter(|s| matches!(s, ShapeDesc::Mesh(_)))
+            .count() as u64;
         let steps = progress::Steps::new(options, mesh_shapes + 2 * used_meshes + 1);
         let skip_top_level = options.skip_top_level;
         let settings = RenderSettings {
@@ -278,44 +284,35 @@ impl Scene {
             let first_new_shape = geometry.shapes.len();
             let first_new_instance = geometry.instances.len();
             let material = s
-                .material
-                .as_ref()
+                .material()
                 .and_then(|m| names.iter().position(|n| *n == m))
                 .map_or(0, |i| i as u32 + 1);
-            match s.kind.as_str() {
-                "sphere" => {
-                    let (Some(c), Some(r)) = (s.center, s.radius) else {
-                        return Err(Error::Invalid("a sphere needs center and radius".into()));
-                    };
-                    geometry.push(ShapeKind::Sphere(Sphere::new(c.into(), r)), material);
+            match s {
+                ShapeDesc::Sphere(s) => {
+                    geometry.push(
+                        ShapeKind::Sphere(Sphere::new(s.center.into(), s.radius)),
+                        material,
+                    );
                 }
-                "plane" => {
-                    let (Some(p), Some(n)) = (s.point, s.normal) else {
-                        return Err(Error::Invalid("a plane needs point and normal".into()));
-                    };
-                    let plane = Plane::rectangle(p.into(), n.into(), s.size.map(Vec2::from));
+                ShapeDesc::Plane(p) => {
+                    let plane =
+                        Plane::rectangle(p.point.into(), p.normal.into(), p.size.map(Vec2::from));
                     geometry.push(ShapeKind::Plane(plane), material);
                 }
-                "triangle" => {
-                    let Some(v) = s.vertices else {
-                        return Err(Error::Invalid("a triangle needs vertices".into()));
-                    };
+                ShapeDesc::Triangle(t) => {
                     let mesh = TriangleMesh {
-                        positions: v.iter().map(|&p| p.into()).collect(),
+                        positions: t.vertices.iter().map(|&p| p.into()).collect(),
                         indices: vec![[0, 1, 2]],
                         normals: None,
                         uvs: None,
                     };
                     geometry.push_mesh(mesh, material);
                 }
-                "implicit" => {
-                    let (Some(f), Some(b)) = (&s.f, s.bounds) else {
-                        return Err(Error::Invalid("an implicit needs f and bounds".into()));
-                    };
-                    let bounds = crate::math::Aabb::new(b[0].into(), b[1].into());
-                    let implicit = Implicit::new(f, bounds)
-                        .map_err(|e| Error::Invalid(format!("in the formula `{f}`, {e}")))?;
-                    let transform = match &s.transform {
+                ShapeDesc::Implicit(i) => {
+                    let bounds = crate::math::Aabb::new(i.bounds[0].into(), i.bounds[1].into());
+                    let implicit = Implicit::new(&i.f, bounds)
+                        .map_err(|e| Error::Invalid(format!("in the formula `{}`, {e}", i.f)))?;
+                    let transform = match &i.transform {
                         Some(t) => Some(ObjectTransform::new(t.matrix()).ok_or_else(|| {
                             Error::Invalid(
                                 "the implicit surface's transform is not invertible".into(),
@@ -325,62 +322,52 @@ impl Scene {
                     };
                     geometry.push_implicit(implicit, transform, material);
                 }
-                "torus" => {
-                    let (Some(c), Some(big), Some(small)) =
-                        (s.center, s.major_radius, s.minor_radius)
-                    else {
-                        return Err(Error::Invalid(
-                            "a torus needs center, major_radius and minor_radius".into(),
-                        ));
-                    };
-                    let axis = s.axis.unwrap_or([0.0, 1.0, 0.0]);
-                    let torus = Torus::new(c.into(), big, small, axis.into());
+                ShapeDesc::Torus(t) => {
+                    let axis = t.axis.unwrap_or([0.0, 1.0, 0.0]);
+                    let torus =
+                        Torus::new(t.center.into(), t.major_radius, t.minor_radius, axis.into());
                     geometry.push(ShapeKind::Torus(torus), material);
                 }
-                "rectangle" | "cube" | "disk" => {
-                    let mesh = match s.kind.as_str() {
-                        "rectangle" => basic_meshes::rectangle(),
-                        "cube" => basic_meshes::cube(),
+                ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
+                    let mesh = match s {
+                        ShapeDesc::Rectangle(_) => basic_meshes::rectangle(),
+                        ShapeDesc::Cube(_) => basic_meshes::cube(),
                         _ => basic_meshes::disk(),
                     };
-                    let m = s
+                    let m = b
                         .transform
                         .as_ref()
                         .map_or(glam::Mat4::IDENTITY, |t| t.matrix());
                     let mut mesh = basic_meshes::transformed(mesh, m);
-                    if s.flip_normals == Some(true) {
+                    if b.flip_normals {
                         basic_meshes::flip_normals(&mut mesh);
                     }
                     geometry.push_mesh(mesh, material);
                 }
-                "mesh" => {
-                    let Some(file) = &s.file else {
-                        return Err(Error::Invalid("a mesh needs a file".into()));
-                    };
+                ShapeDesc::Mesh(m) => {
                     mesh_shape::add_mesh_file(
                         &mut geometry,
                         &mut materials,
-                        &base_dir.join(file),
-                        s.transform.as_ref(),
-                        s.material.is_some().then_some(material),
+                        &base_dir.join(&m.file),
+                        m.transform.as_ref(),
+                        m.material.is_some().then_some(material),
                         settings.accel,
                         &settings.accel_options,
                     )?;
-                    steps.step(&format!("read {file}"))?;
+                    steps.step(&format!("read {}", m.file))?;
                     for shape in &geometry.shapes[first_new_shape..] {
-                        let ShapeKind::Mesh(m) = shape.kind else {
+                        let ShapeKind::Mesh(k) = shape.kind else {
                             continue;
                         };
-                        let mesh = &mut geometry.meshes[m as usize];
-                        if s.face_normals == Some(true) {
+                        let mesh = &mut geometry.meshes[k as usize];
+                        if m.face_normals {
                             mesh.normals = None;
                         }
-                        if s.flip_normals == Some(true) {
+                        if m.flip_normals {
                             basic_meshes::flip_normals(mesh);
                         }
                     }
                 }
-                other => return Err(Error::Invalid(format!("unknown shape type `{other}`"))),
             }
             // A mesh file may have become several surfaces: all report this `[[shape]]`.
             for shape in &mut geometry.shapes[first_new_shape..] {

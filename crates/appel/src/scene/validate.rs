@@ -15,17 +15,6 @@ pub const MAX_DIMENSION: u32 = 65_536;
 pub const MAX_DEPTH: i32 = 1024;
 pub const MAX_SPP: u32 = 65_536;
 pub const TRIANGLE_TESTS: &[&str] = &["watertight", "moller"];
-pub const SHAPE_TYPES: &[&str] = &[
-    "sphere",
-    "plane",
-    "triangle",
-    "implicit",
-    "torus",
-    "mesh",
-    "rectangle",
-    "cube",
-    "disk",
-];
 
 /// A problem and where it is.
 #[derive(Clone, Debug, PartialEq)]
@@ -539,126 +528,63 @@ fn instance(c: &mut Checker, d: &Description, i: &InstanceDesc) -> Check {
 }
 
 fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
-    c.one_of("type", &s.kind, SHAPE_TYPES)?;
-    material_name(c, d, s.material.as_deref())?;
-    let present = [
-        ("center", s.center.is_some()),
-        ("radius", s.radius.is_some()),
-        ("point", s.point.is_some()),
-        ("normal", s.normal.is_some()),
-        ("size", s.size.is_some()),
-        ("vertices", s.vertices.is_some()),
-        ("f", s.f.is_some()),
-        ("bounds", s.bounds.is_some()),
-        ("major_radius", s.major_radius.is_some()),
-        ("minor_radius", s.minor_radius.is_some()),
-        ("axis", s.axis.is_some()),
-        ("file", s.file.is_some()),
-        ("transform", s.transform.is_some()),
-        ("face_normals", s.face_normals.is_some()),
-    ];
-    let (required, optional): (&[&str], &[&str]) = match s.kind.as_str() {
-        "sphere" => (&["center", "radius"], &[]),
-        "plane" => (&["point", "normal"], &["size"]),
-        "implicit" => (&["f", "bounds"], &["transform"]),
-        "torus" => (&["center", "major_radius", "minor_radius"], &["axis"]),
-        "mesh" => (&["file"], &["transform", "face_normals"]),
-        "rectangle" | "cube" | "disk" => (&[], &["transform"]),
-        _ => (&["vertices"], &[]),
+    material_name(c, d, s.material())?;
+    let placed = |c: &mut Checker, t: &Option<TransformDesc>| match t {
+        Some(t) => c.at(key("transform"), |c| transform(c, t)),
+        None => Ok(()),
     };
-    for (k, is_present) in present {
-        if is_present && !required.contains(&k) && !optional.contains(&k) {
-            return c.fail(
-                k,
-                format!(
-                    "a {} has no `{k}` (it takes: {})",
-                    s.kind,
-                    [required, optional].concat().join(", ")
-                ),
-            );
+    match s {
+        ShapeDesc::Sphere(s) => {
+            c.finite("center", &s.center)?;
+            c.positive("radius", s.radius)?;
         }
-        if !is_present && required.contains(&k) {
-            return c.fail("", format!("a {} needs `{k}`", s.kind));
+        ShapeDesc::Plane(p) => {
+            c.finite("point", &p.point)?;
+            c.non_zero("normal", p.normal)?;
+            if let Some(size) = p.size {
+                c.positive("size", size[0])?;
+                c.positive("size", size[1])?;
+            }
         }
-    }
-    if let Some(center) = s.center {
-        c.finite("center", &center)?;
-    }
-    if let Some(r) = s.radius {
-        c.positive("radius", r)?;
-    }
-    if let Some(p) = s.point {
-        c.finite("point", &p)?;
-    }
-    if let Some(n) = s.normal {
-        c.non_zero("normal", n)?;
-    }
-    if let Some(size) = s.size {
-        c.positive("size", size[0])?;
-        c.positive("size", size[1])?;
-    }
-    if let Some(v) = s.vertices {
-        c.finite("vertices", v.as_flattened())?;
-    }
-    for (k, v) in [
-        ("major_radius", s.major_radius),
-        ("minor_radius", s.minor_radius),
-    ] {
-        if let Some(v) = v {
-            c.positive(k, v)?;
+        ShapeDesc::Triangle(t) => c.finite("vertices", t.vertices.as_flattened())?,
+        ShapeDesc::Implicit(i) => {
+            let b = i.bounds;
+            c.finite("bounds", b.as_flattened())?;
+            if (0..3).any(|k| b[0][k] >= b[1][k]) {
+                return c.fail(
+                    "bounds",
+                    format!(
+                        "`bounds` is [[xmin, ymin, zmin], [xmax, ymax, zmax]] with each min below its max, got {b:?}"
+                    ),
+                );
+            }
+            if let Err(e) = crate::geometry::implicit::parse::parse(&i.f) {
+                return c.fail("f", format!("in the formula `{}`, {e}", i.f));
+            }
+            placed(c, &i.transform)?;
         }
-    }
-    if let Some(a) = s.axis {
-        c.non_zero("axis", a)?;
-    }
-    if let Some(b) = s.bounds {
-        c.finite("bounds", b.as_flattened())?;
-        if (0..3).any(|i| b[0][i] >= b[1][i]) {
-            return c.fail(
-                "bounds",
-                format!(
-                    "`bounds` is [[xmin, ymin, zmin], [xmax, ymax, zmax]] with each min below its max, got {b:?}"
-                ),
-            );
+        ShapeDesc::Torus(t) => {
+            c.finite("center", &t.center)?;
+            c.positive("major_radius", t.major_radius)?;
+            c.positive("minor_radius", t.minor_radius)?;
+            if let Some(a) = t.axis {
+                c.non_zero("axis", a)?;
+            }
+        }
+        ShapeDesc::Mesh(m) => {
+            if m.file.is_empty() {
+                return c.fail("file", "`file` must name a mesh file");
+            }
+            placed(c, &m.transform)?;
+        }
+        ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
+            placed(c, &b.transform)?
         }
     }
-    if let Some(f) = &s.f {
-        if let Err(e) = crate::geometry::implicit::parse::parse(f) {
-            return c.fail("f", format!("in the formula `{f}`, {e}"));
-        }
-    }
-    if let Some(f) = &s.file {
-        if f.is_empty() {
-            return c.fail("file", "`file` must name a mesh file");
-        }
-    }
-    if let Some(t) = &s.transform {
-        c.at(key("transform"), |c| transform(c, t))?;
-    }
-    if s.flip_normals == Some(true)
-        && !matches!(s.kind.as_str(), "mesh" | "rectangle" | "cube" | "disk")
-    {
-        return c.fail(
-            "flip_normals",
-            format!(
-                "a {} has no `flip_normals`: it applies to meshes, rectangles, cubes and disks",
-                s.kind
-            ),
-        );
-    }
-    if let Some(e) = &s.emitter {
+    if let Some(e) = s.emitter() {
         c.at(key("emitter"), |c| {
             c.at(key("radiance"), |c| texture(c, &e.radiance))
         })?;
-        if matches!(s.kind.as_str(), "plane" | "implicit" | "torus") {
-            return c.fail(
-                "emitter",
-                format!(
-                    "a {} cannot emit: area lights are spheres, triangles, meshes, rectangles, cubes and disks",
-                    s.kind
-                ),
-            );
-        }
     }
     Ok(())
 }
@@ -735,8 +661,8 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
         }
     }
     for (i, s) in d.shapes.iter().enumerate() {
-        if let Some(f) = &s.file {
-            let p = base_dir.join(f);
+        if let ShapeDesc::Mesh(m) = s {
+            let p = base_dir.join(&m.file);
             if !p.is_file() {
                 return Err(Invalid {
                     path: vec![key("shape"), PathSeg::Index(i), key("file")],

@@ -4,10 +4,12 @@
 mod light;
 mod material;
 mod render;
+mod shape;
 
 pub use light::{AreaEmitterDesc, LightDesc};
 pub use material::*;
 pub use render::*;
+pub use shape::*;
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -148,62 +150,6 @@ impl Default for EnvironmentDesc {
     }
 }
 
-/// One `[[shape]]`. Which keys apply depends on `type`; validation rejects the others.
-#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct ShapeDesc {
-    #[serde(rename = "type")]
-    pub kind: String,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub material: Option<String>,
-    // sphere
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub center: Option<Vec3f>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub radius: Option<f32>,
-    // plane
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub point: Option<Vec3f>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub normal: Option<Vec3f>,
-    /// A finite plane: a `size[0]` x `size[1]` rectangle centred on `point`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub size: Option<[f32; 2]>,
-    // triangle
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub vertices: Option<[Vec3f; 3]>,
-    // implicit: `f(x, y, z) = 0` searched inside `bounds` (see docs/implicit.md)
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub f: Option<String>,
-    /// `[[xmin, ymin, zmin], [xmax, ymax, zmax]]`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bounds: Option<[Vec3f; 2]>,
-    // torus (also `center`)
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub major_radius: Option<f32>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub minor_radius: Option<f32>,
-    /// Axis of symmetry of a torus; default `[0, 1, 0]`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axis: Option<Vec3f>,
-    // mesh
-    /// A mesh file (.ply, .obj, .gltf, .glb, .ply.gz, .obj.gz), relative to the scene file's folder.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub file: Option<String>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub transform: Option<TransformDesc>,
-    /// Meshes: ignore the file's vertex normals and shade with the triangles' own.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub face_normals: Option<bool>,
-    /// Turn the surface's normals around (which side is the front for one-sided materials and
-    /// emitters).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub flip_normals: Option<bool>,
-    /// Makes the surface an area light.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub emitter: Option<AreaEmitterDesc>,
-}
-
 /// Places a shape: scale first, then rotate, then translate (`M = T * R * S`); or a whole
 /// `matrix`.
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
@@ -333,28 +279,7 @@ impl Description {
             }
         }
         for sh in &mut d.shapes {
-            sh.center = sh.center.map(sc);
-            sh.radius = sh.radius.map(|r| r * s);
-            sh.point = sh.point.map(sc);
-            sh.size = sh.size.map(|z| z.map(|x| x * s));
-            sh.vertices = sh.vertices.map(|v| v.map(sc));
-            let placed_implicit = sh.f.is_some() && sh.transform.is_some();
-            if sh.file.is_some() || placed_implicit {
-                // s * (T R S) = T(s t) R S(s S): scale the translation and the scale.
-                sh.transform
-                    .get_or_insert_with(Default::default)
-                    .scale_about_origin(s);
-            }
-            sh.major_radius = sh.major_radius.map(|r| r * s);
-            sh.minor_radius = sh.minor_radius.map(|r| r * s);
-            if !placed_implicit {
-                // An implicit without a transform lives in world coordinates: f(x/s, y/s, z/s) = 0 is
-                // the surface scaled by s. (With a transform, scaling the transform suffices.)
-                sh.bounds = sh.bounds.map(|b| b.map(sc));
-                sh.f = sh.f.as_ref().map(|f| {
-                    crate::geometry::implicit::parse::substitute_scaled(f, 1.0 / s as f64)
-                });
-            }
+            sh.scale(s);
         }
         // Placement files are not rewritten: only inline transforms scale.
         for t in d.instances.iter_mut().filter(|i| i.placements.is_none()) {

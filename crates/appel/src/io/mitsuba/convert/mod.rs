@@ -101,7 +101,7 @@ impl Converter<'_> {
         if self
             .shapes
             .iter()
-            .any(|s| s.material.as_deref() == Some(DEFAULT_MATERIAL))
+            .any(|s| s.material() == Some(DEFAULT_MATERIAL))
             || self
                 .meshes
                 .values()

@@ -6,7 +6,9 @@
 use super::super::document::{Object, Target};
 use super::{columns, rows_f32, Converter, DEFAULT_MATERIAL};
 use crate::error::Result;
-use crate::scene::description::{InstanceDesc, MeshDesc, ShapeDesc, TransformDesc};
+use crate::scene::description::{
+    BasicShapeDesc, InstanceDesc, MeshDesc, MeshShapeDesc, ShapeDesc, SphereDesc, TransformDesc,
+};
 use glam::{DMat4, DVec3};
 use std::rc::Rc;
 
@@ -45,27 +47,50 @@ impl Converter<'_> {
                 ..TransformDesc::default()
             })
         };
-        let mut d = ShapeDesc {
-            kind: s.plugin.clone(),
-            ..ShapeDesc::default()
+        let (material, emitter) = self.shape_children(s)?;
+        let material = Some(material);
+        let emitter = match emitter {
+            Some(e) => Some(self.area_emitter(&e)?),
+            None => None,
         };
-        match s.plugin.as_str() {
-            "obj" | "ply" => {
-                d.kind = "mesh".into();
-                d.file = Some(self.file(s, "filename")?);
-                d.transform = placed(to_world);
-                d.face_normals = s.bool("face_normals")?;
-            }
+        // Read only for the kinds that have it, so that it is an unsupported property elsewhere.
+        let flip_normals =
+            |s: &Object| -> Result<bool> { Ok(s.bool("flip_normals")?.unwrap_or(false)) };
+        let d = match s.plugin.as_str() {
+            "obj" | "ply" => ShapeDesc::Mesh(MeshShapeDesc {
+                file: self.file(s, "filename")?,
+                transform: placed(to_world),
+                face_normals: s.bool("face_normals")?.unwrap_or(false),
+                flip_normals: flip_normals(s)?,
+                material,
+                emitter,
+            }),
             "sphere" => {
                 let center = DVec3::from(s.vector("center")?.unwrap_or([0.0; 3]));
                 let radius = s.float_or("radius", 1.0)?;
                 let scale = similarity_scale(&to_world).ok_or_else(|| {
                     s.error("a sphere's to_world may only rotate, translate and scale uniformly")
                 })?;
-                d.center = Some(super::f32s(to_world.transform_point3(center)));
-                d.radius = Some((radius * scale) as f32);
+                ShapeDesc::Sphere(SphereDesc {
+                    center: super::f32s(to_world.transform_point3(center)),
+                    radius: (radius * scale) as f32,
+                    material,
+                    emitter,
+                })
             }
-            "rectangle" | "cube" | "disk" => d.transform = placed(to_world),
+            "rectangle" | "cube" | "disk" => {
+                let b = BasicShapeDesc {
+                    transform: placed(to_world),
+                    flip_normals: flip_normals(s)?,
+                    material,
+                    emitter,
+                };
+                match s.plugin.as_str() {
+                    "rectangle" => ShapeDesc::Rectangle(b),
+                    "cube" => ShapeDesc::Cube(b),
+                    _ => ShapeDesc::Disk(b),
+                }
+            }
             "serialized" => {
                 return Err(s.error(
                     "Mitsuba's serialized meshes are not supported: convert the mesh to PLY or OBJ",
@@ -76,13 +101,7 @@ impl Converter<'_> {
                     "unsupported shape plugin \"{p}\" (supported: {SHAPES})"
                 )))
             }
-        }
-        d.flip_normals = s.bool("flip_normals")?;
-        let (material, emitter) = self.shape_children(s)?;
-        d.material = Some(material);
-        if let Some(e) = emitter {
-            d.emitter = Some(self.area_emitter(&e)?);
-        }
+        };
         s.finish()?;
         Ok(d)
     }

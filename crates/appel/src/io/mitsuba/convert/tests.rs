@@ -66,7 +66,7 @@ fn every_scene_with_supported_plugins_converts() {
         };
         assert!(!d.shapes.is_empty() || !d.instances.is_empty(), "{rel}");
         for s in &d.shapes {
-            if let Some(f) = &s.file {
+            if let ShapeDesc::Mesh(MeshShapeDesc { file: f, .. }) = s {
                 assert!(
                     Path::new(f).is_absolute() && Path::new(f).is_file(),
                     "{rel}: {f}"
@@ -117,8 +117,10 @@ fn cornell_box() {
     assert_eq!(r.sampler, SamplerName::Independent);
     // Eight rectangles and cubes, the light among them.
     assert_eq!(d.shapes.len(), 8);
-    let light = d.shapes.iter().find(|s| s.emitter.is_some()).unwrap();
-    assert_eq!(light.kind, "rectangle");
+    let light = d.shapes.iter().find(|s| s.emitter().is_some()).unwrap();
+    let ShapeDesc::Rectangle(light) = light else {
+        panic!("{light:?}")
+    };
     assert_eq!(
         rgb(&light.emitter.as_ref().unwrap().radiance),
         [17.0, 12.0, 4.0]
@@ -128,7 +130,13 @@ fn cornell_box() {
         close(&m[0], &[0.235, -1.66103e-8, -7.80685e-9, -0.005], 1e-9),
         "{m:?}"
     );
-    assert_eq!(d.shapes.iter().filter(|s| s.kind == "cube").count(), 2);
+    assert_eq!(
+        d.shapes
+            .iter()
+            .filter(|s| matches!(s, ShapeDesc::Cube(_)))
+            .count(),
+        2
+    );
     let MaterialDesc::TwoSided(left) = &d.materials["LeftWallBSDF"] else {
         panic!("{:?}", d.materials["LeftWallBSDF"]);
     };
@@ -167,26 +175,23 @@ fn floating_sphere_and_mirrors() {
             intensity: 1.0
         }]
     );
-    let sphere = &d.shapes[1];
-    assert_eq!(sphere.kind, "mesh");
-    assert!(sphere
-        .file
-        .as_ref()
-        .unwrap()
-        .ends_with("common/meshes/sphere.obj"));
+    let ShapeDesc::Mesh(sphere) = &d.shapes[1] else {
+        panic!("{:?}", d.shapes[1])
+    };
+    assert!(sphere.file.ends_with("common/meshes/sphere.obj"));
     let m = sphere.transform.as_ref().unwrap().matrix.unwrap();
     assert_eq!(m[0], [0.1, 0.0, 0.0, 0.0]);
     assert_eq!(m[2], [0.0, 0.0, 0.1, 1.0]);
     // Both shapes share the one referenced BSDF.
-    assert_eq!(d.shapes[0].material.as_deref(), Some("diffuse_bsdf"));
-    assert_eq!(d.shapes[1].material, d.shapes[0].material);
+    assert_eq!(d.shapes[0].material(), Some("diffuse_bsdf"));
+    assert_eq!(d.shapes[1].material(), d.shapes[0].material());
 
     let Some(d) = load(&format!("{SCENES}/infinite_mirrors/scene_path.xml")) else {
         return;
     };
     assert_eq!((d.render.max_depth, d.render.spp), (8, 64));
     assert_eq!(d.camera.near_clip, 1.0);
-    let MaterialDesc::Conductor(c) = &d.materials[d.shapes[0].material.as_ref().unwrap()] else {
+    let MaterialDesc::Conductor(c) = &d.materials[d.shapes[0].material().unwrap()] else {
         panic!()
     };
     assert_eq!((c.eta, c.k), (Some([0.789; 3]), Some([6.15; 3])));
@@ -209,17 +214,24 @@ fn instancing() {
     assert_eq!(d.meshes.len(), 1);
     assert_eq!(d.instances.len(), 3);
     assert_eq!(d.shapes.len(), 6);
-    let spheres: Vec<_> = d.shapes.iter().filter(|s| s.kind == "sphere").collect();
+    let spheres: Vec<&SphereDesc> = d
+        .shapes
+        .iter()
+        .filter_map(|s| match s {
+            ShapeDesc::Sphere(s) => Some(s),
+            _ => None,
+        })
+        .collect();
     assert_eq!(spheres.len(), 3);
     // Second instance: rotate 45 about y, scale 1.5, translate z 2, after the group's own
     // scale 0.5 and translate x -1.
     let h = std::f32::consts::FRAC_1_SQRT_2 * 1.5;
     assert!(
-        close(&spheres[1].center.unwrap(), &[-h, 0.0, 2.0 + h], 1e-5),
+        close(&spheres[1].center, &[-h, 0.0, 2.0 + h], 1e-5),
         "{:?}",
         spheres[1]
     );
-    assert!((spheres[1].radius.unwrap() - 0.75).abs() < 1e-6);
+    assert!((spheres[1].radius - 0.75).abs() < 1e-6);
     let m = d.instances[1].transform.as_ref().unwrap().matrix.unwrap();
     assert!(close(&m[2], &[-h, 0.0, h, 2.0], 1e-5), "{m:?}");
     assert_eq!(
@@ -238,8 +250,8 @@ fn bsdf_spheres_parameters() {
         return;
     };
     // Spectra as Mitsuba 3.9.1's scalar_rgb makes them (its Python module, `mi.traverse`).
-    let lamp = d.shapes.iter().find(|s| s.emitter.is_some()).unwrap();
-    let radiance = rgb(&lamp.emitter.as_ref().unwrap().radiance);
+    let lamp = d.shapes.iter().find_map(|s| s.emitter()).unwrap();
+    let radiance = rgb(&lamp.radiance);
     assert!(
         close(&radiance, &[20.7108364, 10.8546343, 2.77115202], 1e-4),
         "{radiance:?}"
@@ -404,17 +416,17 @@ fn defaults_of_a_minimal_scene_are_mitsubas() {
     );
     assert_eq!((d.camera.fov_axis, d.camera.near_clip), (FovAxis::X, 0.01));
     // No BSDF: Mitsuba's diffuse of reflectance 0.5.
-    let name = d.shapes[0].material.as_ref().unwrap();
+    let name = d.shapes[0].material().unwrap();
     assert_eq!(
         d.materials[name],
         MaterialDesc::Diffuse(DiffuseDesc {
             reflectance: TextureDesc::Value(0.5)
         })
     );
-    assert_eq!(
-        (d.shapes[0].center, d.shapes[0].radius),
-        (Some([0.0; 3]), Some(1.0))
-    );
+    let ShapeDesc::Sphere(sphere) = &d.shapes[0] else {
+        panic!("{:?}", d.shapes[0])
+    };
+    assert_eq!((sphere.center, sphere.radius), ([0.0; 3], 1.0));
     // A uniform spectrum inside an emitter: Mitsuba 3.9.1 gives 2 x (1.2048, 0.9483, 0.9089).
     let LightDesc::Constant { radiance } = d.lights[0] else {
         panic!()

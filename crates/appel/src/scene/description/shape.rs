@@ -1,0 +1,188 @@
+//! `[[shape]]`: one tagged table per surface, `type` naming its kind. Each kind takes exactly its
+//! own keys, so a key that does not apply (a sphere's `size`, a plane's `emitter`) is a parse error
+//! listing the keys it does take.
+
+use super::{AreaEmitterDesc, TransformDesc, Vec3f};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(tag = "type", rename_all = "lowercase")]
+pub enum ShapeDesc {
+    Sphere(SphereDesc),
+    /// An infinite plane, or a finite one with `size`.
+    Plane(PlaneDesc),
+    Triangle(TriangleDesc),
+    /// `f(x, y, z) = 0` searched inside `bounds` (see docs/implicit.md).
+    Implicit(ImplicitDesc),
+    Torus(TorusDesc),
+    /// A mesh file.
+    Mesh(MeshShapeDesc),
+    /// Mitsuba's rectangle: the square `[-1, 1]^2` in the plane z = 0, facing +z, placed by
+    /// `transform`.
+    Rectangle(BasicShapeDesc),
+    /// Mitsuba's cube: `[-1, 1]^3`, placed by `transform`.
+    Cube(BasicShapeDesc),
+    /// Mitsuba's disk: the unit disk in the plane z = 0, facing +z, placed by `transform`.
+    Disk(BasicShapeDesc),
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SphereDesc {
+    pub center: Vec3f,
+    pub radius: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emitter: Option<AreaEmitterDesc>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneDesc {
+    pub point: Vec3f,
+    pub normal: Vec3f,
+    /// A finite plane: a `size[0]` x `size[1]` rectangle centred on `point`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<[f32; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TriangleDesc {
+    pub vertices: [Vec3f; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emitter: Option<AreaEmitterDesc>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ImplicitDesc {
+    pub f: String,
+    /// `[[xmin, ymin, zmin], [xmax, ymax, zmax]]`.
+    pub bounds: [Vec3f; 2],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TorusDesc {
+    pub center: Vec3f,
+    pub major_radius: f32,
+    pub minor_radius: f32,
+    /// Axis of symmetry; default `[0, 1, 0]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<Vec3f>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MeshShapeDesc {
+    /// A mesh file (.ply, .obj, .gltf, .glb, .ply.gz, .obj.gz), relative to the scene file's folder.
+    pub file: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+    /// Ignore the file's vertex normals and shade with the triangles' own.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub face_normals: bool,
+    /// Turn the normals around (which side is the front for one-sided materials and emitters).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub flip_normals: bool,
+    /// Overrides the file's own materials.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emitter: Option<AreaEmitterDesc>,
+}
+
+/// Rectangles, cubes and disks: a fixed mesh placed by `transform`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BasicShapeDesc {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+    /// Turn the normals around (which side is the front for one-sided materials and emitters).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub flip_normals: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emitter: Option<AreaEmitterDesc>,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+impl ShapeDesc {
+    /// The name of the `[materials.NAME]` entry the shape uses, if any.
+    pub fn material(&self) -> Option<&str> {
+        match self {
+            ShapeDesc::Sphere(s) => s.material.as_deref(),
+            ShapeDesc::Plane(s) => s.material.as_deref(),
+            ShapeDesc::Triangle(s) => s.material.as_deref(),
+            ShapeDesc::Implicit(s) => s.material.as_deref(),
+            ShapeDesc::Torus(s) => s.material.as_deref(),
+            ShapeDesc::Mesh(s) => s.material.as_deref(),
+            ShapeDesc::Rectangle(s) | ShapeDesc::Cube(s) | ShapeDesc::Disk(s) => {
+                s.material.as_deref()
+            }
+        }
+    }
+
+    /// The area emitter, on the kinds that can emit.
+    pub fn emitter(&self) -> Option<&AreaEmitterDesc> {
+        match self {
+            ShapeDesc::Sphere(s) => s.emitter.as_ref(),
+            ShapeDesc::Triangle(s) => s.emitter.as_ref(),
+            ShapeDesc::Mesh(s) => s.emitter.as_ref(),
+            ShapeDesc::Rectangle(s) | ShapeDesc::Cube(s) | ShapeDesc::Disk(s) => s.emitter.as_ref(),
+            ShapeDesc::Plane(_) | ShapeDesc::Implicit(_) | ShapeDesc::Torus(_) => None,
+        }
+    }
+
+    /// Scales the shape by `s` about the origin (for [`super::Description::scaled`]).
+    pub fn scale(&mut self, s: f32) {
+        let sc = |v: &mut Vec3f| *v = v.map(|x| x * s);
+        // s * (T R S) = T(s t) R S(s S): scale the translation and the scale.
+        let scale_transform = |t: &mut Option<TransformDesc>| {
+            t.get_or_insert_with(Default::default).scale_about_origin(s)
+        };
+        match self {
+            ShapeDesc::Sphere(x) => {
+                sc(&mut x.center);
+                x.radius *= s;
+            }
+            ShapeDesc::Plane(x) => {
+                sc(&mut x.point);
+                x.size = x.size.map(|z| z.map(|v| v * s));
+            }
+            ShapeDesc::Triangle(x) => x.vertices.iter_mut().for_each(sc),
+            ShapeDesc::Implicit(x) if x.transform.is_some() => scale_transform(&mut x.transform),
+            ShapeDesc::Implicit(x) => {
+                // Without a transform the surface lives in world coordinates: f(x/s, y/s, z/s) = 0
+                // is the surface scaled by s.
+                x.bounds.iter_mut().for_each(sc);
+                x.f = crate::geometry::implicit::parse::substitute_scaled(&x.f, 1.0 / s as f64);
+            }
+            ShapeDesc::Torus(x) => {
+                sc(&mut x.center);
+                x.major_radius *= s;
+                x.minor_radius *= s;
+            }
+            ShapeDesc::Mesh(x) => scale_transform(&mut x.transform),
+            ShapeDesc::Rectangle(x) | ShapeDesc::Cube(x) | ShapeDesc::Disk(x) => {
+                scale_transform(&mut x.transform)
+            }
+        }
+    }
+}
