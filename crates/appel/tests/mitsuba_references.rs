@@ -104,6 +104,11 @@ fn texturedprincipledthin() {
     sphere_test("texturedprincipledthin", 256);
 }
 
+#[test]
+fn textured_roughconductor() {
+    sphere_test("textured_roughconductor", 256);
+}
+
 fn scene_test(name: &str, spp: u32) {
     let dir = format!("mitsuba-data/tests/scenes/{name}");
     let Some(refs) = shared(&format!("{dir}/refs")) else {
@@ -147,6 +152,16 @@ fn infinite_mirrors() {
 #[test]
 fn instancing() {
     scene_test("instancing", 256);
+}
+
+#[test]
+fn orthographic_sensor() {
+    scene_test("orthographic_sensor", 64);
+}
+
+#[test]
+fn texture_interp() {
+    scene_test("texture_interp", 64);
 }
 
 #[test]

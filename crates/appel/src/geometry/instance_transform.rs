@@ -98,6 +98,7 @@ impl InstanceTransform {
             n: normal(si.n),
             ns: normal(si.ns),
             uv: si.uv,
+            dpdu: linear * si.dpdu,
         }
     }
 
@@ -168,6 +169,7 @@ mod tests {
             n,
             ns: n,
             uv: glam::Vec2::ZERO,
+            dpdu: Vec3::ZERO,
         };
         let w = x.interaction_to_world(&si);
         let tangent = x.to_world.transform_vector3(Vec3::new(1.0, -1.0, 0.0));

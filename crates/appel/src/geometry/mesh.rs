@@ -89,16 +89,56 @@ impl TriangleMesh {
             }
             None => n,
         };
-        let uv = match &self.uvs {
-            Some(uv) => b0 * uv[i0] + b1 * uv[i1] + b2 * uv[i2],
-            None => Vec2::new(b1, b2),
+        // Without texture coordinates, (u, v) are the barycentrics (b1, b2): vertex uvs (0,0),
+        // (1,0), (0,1), which give dp/du = p1 - p0 below, as Mitsuba 3's meshes do.
+        let uvs = match &self.uvs {
+            Some(uv) => [uv[i0], uv[i1], uv[i2]],
+            None => [Vec2::ZERO, Vec2::X, Vec2::Y],
         };
+        let uv = b0 * uvs[0] + b1 * uvs[1] + b2 * uvs[2];
         SurfaceInteraction {
             p,
             p_error,
             n,
             ns,
             uv,
+            dpdu: dpdu([p0, p1, p2], uvs),
         }
+    }
+}
+
+/// dp/du of a triangle from its vertices and texture coordinates: the solution of
+/// `[dp02 dp12] = [dpdu dpdv] [duv02 duv12]` (pbrt-v4 section 6.5.3). Zero when the texture
+/// coordinates are degenerate.
+fn dpdu(p: [Vec3; 3], uv: [Vec2; 3]) -> Vec3 {
+    let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
+    let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
+    let det = duv02.x * duv12.y - duv02.y * duv12.x;
+    let dpdu = (duv12.y * dp02 - duv02.y * dp12) / det;
+    if det != 0.0 && dpdu.is_finite() {
+        dpdu
+    } else {
+        Vec3::ZERO
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dpdu_follows_the_texture_u_axis() {
+        let p = [
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 3.0, 0.0),
+        ];
+        let uv = [Vec2::ZERO, Vec2::X, Vec2::Y];
+        assert_eq!(dpdu(p, uv), Vec3::new(2.0, 0.0, 0.0));
+        // u running along the second edge, at half the rate.
+        let uv = [Vec2::ZERO, Vec2::Y, Vec2::new(0.5, 0.0)];
+        assert_eq!(dpdu(p, uv), Vec3::new(0.0, 6.0, 0.0));
+        // Degenerate texture coordinates: no direction.
+        assert_eq!(dpdu(p, [Vec2::ONE; 3]), Vec3::ZERO);
     }
 }

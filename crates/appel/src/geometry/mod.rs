@@ -65,4 +65,9 @@ pub struct SurfaceInteraction {
     pub ns: Vec3,
     /// Surface coordinates used by textures.
     pub uv: Vec2,
+    /// The surface's derivative along `u` (not normalized; zero where a surface has no
+    /// parametrization). The shading frame's tangent follows it, as Mitsuba 3's
+    /// `SurfaceInteraction::initialize_sh_frame` does, so anisotropic BSDFs and normal maps are
+    /// oriented by the texture coordinates.
+    pub dpdu: Vec3,
 }

@@ -111,6 +111,7 @@ impl Plane {
             n: self.normal,
             ns: self.normal,
             uv: Vec2::new(p.dot(self.tangent), p.dot(self.bitangent)),
+            dpdu: self.tangent,
         }
     }
 }

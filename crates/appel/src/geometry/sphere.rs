@@ -117,6 +117,8 @@ impl Sphere {
             n,
             ns: n,
             uv,
+            // d/dphi of the point at longitude phi = atan2(n.z, n.x), times the radius.
+            dpdu: Vec3::new(-local.z, 0.0, local.x),
         }
     }
 }

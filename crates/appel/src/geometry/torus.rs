@@ -143,6 +143,10 @@ impl Torus {
             n,
             ns: n,
             uv: Vec2::new((phi * big) as f32, (theta * small) as f32),
+            // Along the ring, the direction of increasing phi.
+            dpdu: self
+                .world(DVec3::new(-on_surface.z, 0.0, on_surface.x))
+                .as_vec3(),
         }
     }
 }

@@ -71,6 +71,7 @@ impl ObjectTransform {
             n: normal(si.n),
             ns: normal(si.ns),
             uv: si.uv,
+            dpdu: linear * si.dpdu,
         }
     }
 }
@@ -108,6 +109,7 @@ mod tests {
             n,
             ns: n,
             uv: glam::Vec2::ZERO,
+            dpdu: Vec3::ZERO,
         };
         let w = x.interaction_to_world(&si);
         assert!(w.n.dot(Vec3::new(4.0, -1.0, 0.0)).abs() < 1e-6);

@@ -132,7 +132,7 @@ impl SampleIntegrator for PathTracer {
             if depth + 1 >= self.max_depth {
                 break;
             }
-            let frame = ShadingFrame::from_normal(si.ns);
+            let frame = ShadingFrame::from_normal_tangent(si.ns, si.dpdu);
             let mut wo = frame.to_local(wo_world);
             let material = scene.geometry.material(&h.hit);
             let sb = Material::bsdf(&scene.shading_materials, material, si.uv, wo.z);

@@ -139,6 +139,8 @@ impl Implicit {
             n,
             ns: n,
             uv: Vec2::new(phi, theta) * r,
+            // Not a parametrization of the surface: the shading frame picks its own tangent.
+            dpdu: Vec3::ZERO,
         }
     }
 }
