@@ -5,8 +5,8 @@ mod reference;
 
 use appel::scene::description::FilterDesc;
 use reference::{
-    compare, compare_within, reference, render_xml, render_xml_with, save_side_by_side, shared,
-    tent_blur_allowance, Setup,
+    compare, compare_within, reference, render_xml, render_xml_with, render_xml_with_params,
+    save_side_by_side, shared, tent_blur_allowance, Setup,
 };
 
 fn check(scene: &str, reference_exr: &str, setup: Setup) {
@@ -162,6 +162,40 @@ fn orthographic_sensor() {
 #[test]
 fn texture_interp() {
     scene_test("texture_interp", 64);
+}
+
+/// The constant environment outweighs the spot in the power-based light choice by about 50 to 1,
+/// so few samples of a pixel reach the de Bruijn texture; 1024 make the per-pixel variance a
+/// sound estimate.
+#[test]
+fn spot_light() {
+    scene_test("spot_light", 1024);
+}
+
+#[test]
+fn projector() {
+    scene_test("projector", 64);
+}
+
+/// Mitsuba renders its reference with `path` (the file's `ptracer` estimates the same image). Seven
+/// lights share the light choice, so a pixel's estimate is heavy-tailed at any affordable count;
+/// 4 x 4 blocks give each tested value 4096 samples.
+#[test]
+fn various_emitters() {
+    let dir = "mitsuba-data/tests/scenes/various_emitters";
+    let (Some(scene), Some(ref_path)) = (
+        shared(&format!("{dir}/test_various_emitters_ptracer.xml")),
+        shared(&format!("{dir}/refs/test_various_emitters_ref_rgb.exr")),
+    ) else {
+        return;
+    };
+    let setup = Setup { spp: 256, block: 4 };
+    let film = render_xml_with_params(&scene, &setup, &[("integrator", "path")], |_| {});
+    let r = reference(&ref_path, film.width, film.height);
+    let c = compare(&film, &r);
+    save_side_by_side("test_various_emitters", &film, &r);
+    eprintln!("various_emitters: {c:?}");
+    assert!(c.passes(), "{c:?}");
 }
 
 #[test]

@@ -56,9 +56,11 @@ pub fn read_bitmap(path: &Path, raw: bool) -> Result<Bitmap> {
         ImageFormat::Jpeg
     } else if bytes.starts_with(b"#?") {
         ImageFormat::Hdr
+    } else if bytes.starts_with(b"BM") {
+        ImageFormat::Bmp
     } else {
         return Err(bad(
-            "not an image Appel reads (expected PNG, JPEG, OpenEXR or Radiance HDR)".into(),
+            "not an image Appel reads (expected PNG, JPEG, BMP, OpenEXR or Radiance HDR)".into(),
         ));
     };
     let image = image::load_from_memory_with_format(&bytes, format)

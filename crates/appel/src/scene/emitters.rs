@@ -1,14 +1,15 @@
 //! The scene's emitters for the Monte Carlo integrators: `[[light]]` entries and the surfaces with
 //! an `emitter`, the power-based choice among them, and which surface emits as which emitter.
 
-use super::description::{Description, LightDesc};
+use super::description::{Description, FovAxis, LightDesc};
 use super::geometry::{Geometry, ShapeKind};
 use super::textures::TextureCache;
 use crate::error::{Error, Location, Result};
 use crate::shading::emitter::{
     AreaEmitter, ConstantEnvironment, DirectionalLight, Emitter, EnvMap, LightPicker, PointLight,
-    ShapeSampler, SpotLight,
+    Projector, ShapeSampler, SpotLight,
 };
+use crate::shading::texture::Texture;
 use glam::{Mat4, Vec2, Vec3};
 
 /// [`SceneEmitters::of_shape`] of a surface that does not emit.
@@ -91,24 +92,52 @@ impl SceneEmitters {
                     intensity,
                     cutoff_angle,
                     beam_width,
+                    texture,
+                    up,
+                } => Emitter::Spot(SpotLight::new(
+                    look_at_frame(*position, *look_at, *up),
+                    Vec3::from(*color) * *intensity,
+                    *cutoff_angle,
+                    beam_width.unwrap_or(0.75 * cutoff_angle),
+                    texture.as_ref().map(|t| textures.texture(t)).transpose()?,
+                )),
+                LightDesc::Projector {
+                    position,
+                    look_at,
+                    up,
+                    irradiance,
+                    scale,
+                    fov,
+                    fov_axis,
                 } => {
-                    let eye = Vec3::from(*position);
-                    let dir = (Vec3::from(*look_at) - eye).normalize();
-                    let up = if dir.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
-                    // Mitsuba's spot looks down its local +z.
-                    let x = up.cross(dir).normalize();
-                    let to_world = Mat4::from_cols(
-                        x.extend(0.0),
-                        dir.cross(x).extend(0.0),
-                        dir.extend(0.0),
-                        eye.extend(1.0),
-                    );
-                    Emitter::Spot(SpotLight::new(
-                        to_world,
-                        Vec3::from(*color) * *intensity,
-                        *cutoff_angle,
-                        beam_width.unwrap_or(0.75 * cutoff_angle),
-                        None,
+                    let irradiance = textures.texture(irradiance)?;
+                    let (w, h) = match &irradiance {
+                        Texture::Bitmap(b) => (b.bitmap().width as f32, b.bitmap().height as f32),
+                        _ => (1.0, 1.0),
+                    };
+                    // Mitsuba's default lens when no field of view is given: 50 mm on 36 x 24 mm
+                    // film, across the diagonal.
+                    let (fov, axis) = match fov {
+                        Some(f) => (*f, fov_axis.unwrap_or(FovAxis::X)),
+                        None => (
+                            2.0 * (36f32.hypot(24.0) / 100.0).atan().to_degrees(),
+                            FovAxis::Diagonal,
+                        ),
+                    };
+                    let across = match axis {
+                        FovAxis::X => w,
+                        FovAxis::Y => h,
+                        FovAxis::Diagonal => w.hypot(h),
+                        FovAxis::Smaller => w.min(h),
+                        FovAxis::Larger => w.max(h),
+                    };
+                    let tan_half_x = (0.5 * fov.to_radians()).tan() * w / across;
+                    Emitter::Projector(Projector::new(
+                        look_at_frame(*position, *look_at, *up),
+                        irradiance,
+                        *scale,
+                        tan_half_x,
+                        w / h,
                     ))
                 }
                 LightDesc::Constant { radiance } => {
@@ -149,6 +178,25 @@ impl SceneEmitters {
             infinite,
         })
     }
+}
+
+/// Mitsuba's `lookat` frame for a light at `position` looking down its local +z toward `look_at`:
+/// x = up × z, y = z × x. Without an `up` (or one along the axis), +y, or +x for a vertical axis.
+fn look_at_frame(position: [f32; 3], look_at: [f32; 3], up: Option<[f32; 3]>) -> Mat4 {
+    let eye = Vec3::from(position);
+    let dir = (Vec3::from(look_at) - eye).normalize();
+    let up = match up.map(Vec3::from) {
+        Some(up) if up.cross(dir).length_squared() > 1e-12 * up.length_squared() => up,
+        _ if dir.y.abs() < 0.9 => Vec3::Y,
+        _ => Vec3::X,
+    };
+    let x = up.cross(dir).normalize();
+    Mat4::from_cols(
+        x.extend(0.0),
+        dir.cross(x).extend(0.0),
+        dir.extend(0.0),
+        eye.extend(1.0),
+    )
 }
 
 /// The world-space triangles (with uvs where the meshes have them) of these mesh surfaces.

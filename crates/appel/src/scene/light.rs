@@ -38,7 +38,10 @@ impl Light {
                 direction: Vec3::from(*direction).normalize(),
                 radiance: Vec3::from(*color) * *intensity,
             }),
-            LightDesc::Constant { .. } | LightDesc::Envmap { .. } => None,
+            // A projector's light varies across its image: no Whitted counterpart.
+            LightDesc::Constant { .. } | LightDesc::Envmap { .. } | LightDesc::Projector { .. } => {
+                None
+            }
         }
     }
 }

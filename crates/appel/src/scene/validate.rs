@@ -173,6 +173,7 @@ fn light(c: &mut Checker, l: &LightDesc) -> Check {
             intensity,
             cutoff_angle,
             beam_width,
+            ..
         } => {
             c.finite("position", position)?;
             c.finite("look_at", look_at)?;
@@ -192,6 +193,29 @@ fn light(c: &mut Checker, l: &LightDesc) -> Check {
                     return c.fail(
                         "beam_width",
                         format!("`beam_width` must lie in (0, cutoff_angle], got {b}"),
+                    );
+                }
+            }
+            Ok(())
+        }
+        LightDesc::Projector {
+            position,
+            look_at,
+            scale,
+            fov,
+            ..
+        } => {
+            c.finite("position", position)?;
+            c.finite("look_at", look_at)?;
+            if position == look_at {
+                return c.fail("look_at", "`look_at` must differ from `position`");
+            }
+            c.non_negative("scale", &[*scale])?;
+            if let Some(f) = fov {
+                if !(*f > 0.0 && *f < 180.0) {
+                    return c.fail(
+                        "fov",
+                        format!("`fov` must lie in (0, 180) degrees, got {f}"),
                     );
                 }
             }

@@ -4,7 +4,7 @@
 
 use appel::io::bitmap_read::read_bitmap;
 use appel::render::{render, Film, RenderOptions};
-use appel::scene::{load_description, Description, Scene};
+use appel::scene::{load_xml_description, Description, Scene};
 use std::path::{Path, PathBuf};
 
 pub fn shared(rel: &str) -> Option<PathBuf> {
@@ -70,7 +70,23 @@ pub fn render_xml_with(
     setup: &Setup,
     adjust: impl FnOnce(&mut Description),
 ) -> Averaged {
-    let loaded = load_description(scene).unwrap_or_else(|e| panic!("{e}"));
+    render_xml_with_params(scene, setup, &[], adjust)
+}
+
+/// [`render_xml_with`] with Mitsuba `-D name=value` parameters.
+pub fn render_xml_with_params(
+    scene: &Path,
+    setup: &Setup,
+    params: &[(&str, &str)],
+    adjust: impl FnOnce(&mut Description),
+) -> Averaged {
+    let options = appel::io::mitsuba::XmlOptions {
+        params: params
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect(),
+    };
+    let loaded = load_xml_description(scene, &options).unwrap_or_else(|e| panic!("{e}"));
     let mut d = loaded.description;
     d.render.spp = setup.spp;
     adjust(&mut d);

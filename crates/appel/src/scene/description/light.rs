@@ -38,6 +38,35 @@ pub enum LightDesc {
         /// Half-angle in degrees of the inner cone of full intensity (3/4 of the cutoff by default).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         beam_width: Option<f32>,
+        /// Which way is up in the projected `texture`: the light's local y axis is the part of
+        /// `up` perpendicular to the axis (as Mitsuba's `lookat` builds it). By default +y, or +x
+        /// when the axis is nearly vertical.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        up: Option<Vec3f>,
+        /// An image projected through the cone, multiplying the intensity: uv (0.5, 0.5) on the
+        /// axis, 0 and 1 where the cone's cutoff meets the image plane (Mitsuba's `texture`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        texture: Option<super::TextureDesc>,
+    },
+    /// A pinhole projecting an image (Mitsuba's `projector`): the reciprocal of a perspective
+    /// camera at `position` looking at `look_at`. `irradiance` is what a plane facing it at unit
+    /// distance receives, divided by π and `scale` (Mitsuba's convention); the field of view
+    /// `fov` degrees spans `fov_axis` of the image (by default Mitsuba's 50 mm lens: 46.8° across
+    /// the diagonal).
+    Projector {
+        position: Vec3f,
+        look_at: Vec3f,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        up: Option<Vec3f>,
+        #[serde(default = "unit_texture")]
+        irradiance: super::TextureDesc,
+        #[serde(default = "unit")]
+        scale: f32,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        fov: Option<f32>,
+        /// `x` unless given, as Mitsuba's projector (Appel's cameras default to `y`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        fov_axis: Option<super::FovAxis>,
     },
     /// Light of radiance `radiance` arriving from every direction (Mitsuba's `constant`).
     Constant {
@@ -78,6 +107,16 @@ impl LightDesc {
                 sc(look_at);
                 *intensity *= s * s;
             }
+            LightDesc::Projector {
+                position,
+                look_at,
+                scale,
+                ..
+            } => {
+                sc(position);
+                sc(look_at);
+                *scale *= s * s;
+            }
             LightDesc::Directional { .. }
             | LightDesc::Constant { .. }
             | LightDesc::Envmap { .. } => {}
@@ -89,6 +128,7 @@ impl LightDesc {
             LightDesc::Point { .. } => "point",
             LightDesc::Directional { .. } => "directional",
             LightDesc::Spot { .. } => "spot",
+            LightDesc::Projector { .. } => "projector",
             LightDesc::Constant { .. } => "constant",
             LightDesc::Envmap { .. } => "envmap",
         }
@@ -105,6 +145,9 @@ pub struct AreaEmitterDesc {
 
 fn white() -> Vec3f {
     [1.0; 3]
+}
+fn unit_texture() -> super::TextureDesc {
+    super::TextureDesc::Value(1.0)
 }
 fn unit() -> f32 {
     1.0

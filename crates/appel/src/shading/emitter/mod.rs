@@ -9,6 +9,7 @@ pub mod distribution;
 mod envmap;
 mod light_picker;
 mod point;
+mod projector;
 pub mod shape_sampler;
 mod spot;
 pub mod warp;
@@ -22,6 +23,7 @@ pub use directional::DirectionalLight;
 pub use envmap::EnvMap;
 pub use light_picker::LightPicker;
 pub use point::PointLight;
+pub use projector::Projector;
 pub use shape_sampler::{ShapeSampler, TriangleSet};
 pub use spot::SpotLight;
 
@@ -46,6 +48,7 @@ pub struct EmitterSample {
 pub enum Emitter {
     Point(PointLight),
     Spot(SpotLight),
+    Projector(Projector),
     Directional(DirectionalLight),
     Area(AreaEmitter),
     Constant(ConstantEnvironment),
@@ -60,6 +63,7 @@ impl Emitter {
         match self {
             Emitter::Point(l) => l.sample_li(p),
             Emitter::Spot(l) => l.sample_li(p),
+            Emitter::Projector(l) => l.sample_li(p),
             Emitter::Directional(l) => l.sample_li(),
             Emitter::Area(l) => l.sample_li(p, u),
             Emitter::Constant(l) => l.sample_li(u),
@@ -72,7 +76,10 @@ impl Emitter {
     /// Zero for delta lights, which no other sampling strategy can hit.
     pub fn pdf_li(&self, p: Vec3, wi: Vec3, light_point: Vec3, light_normal: Vec3) -> f32 {
         match self {
-            Emitter::Point(_) | Emitter::Spot(_) | Emitter::Directional(_) => 0.0,
+            Emitter::Point(_)
+            | Emitter::Spot(_)
+            | Emitter::Projector(_)
+            | Emitter::Directional(_) => 0.0,
             Emitter::Area(l) => l.pdf_li(p, wi, light_point, light_normal),
             Emitter::Constant(l) => l.pdf_li(),
             Emitter::EnvMap(l) => l.pdf_li(wi),
@@ -104,6 +111,7 @@ impl Emitter {
         let rgb = match self {
             Emitter::Point(l) => l.power(),
             Emitter::Spot(l) => l.power(),
+            Emitter::Projector(l) => l.power(),
             Emitter::Directional(l) => l.power(),
             Emitter::Area(l) => l.power(),
             Emitter::Constant(l) => l.power(),
@@ -115,7 +123,7 @@ impl Emitter {
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Emitter::Point(_) | Emitter::Spot(_) | Emitter::Directional(_)
+            Emitter::Point(_) | Emitter::Spot(_) | Emitter::Projector(_) | Emitter::Directional(_)
         )
     }
 

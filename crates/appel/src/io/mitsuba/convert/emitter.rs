@@ -5,12 +5,12 @@
 use super::super::document::Object;
 use super::super::spectrum::SpectrumUse;
 use super::bsdf::{constant_color, texture};
-use super::{columns, f32s, rows_f32, Converter};
+use super::{columns, f32s, fov_axis, rows_f32, Converter};
 use crate::error::Result;
 use crate::scene::description::{AreaEmitterDesc, LightDesc, TextureDesc, TransformDesc};
 use glam::DVec3;
 
-const EMITTERS: &str = "point, spot, directional, constant, envmap (and area on shapes)";
+const EMITTERS: &str = "point, spot, projector, directional, constant, envmap (and area on shapes)";
 
 impl Converter<'_> {
     pub(super) fn light(&mut self, e: &Object) -> Result<()> {
@@ -35,7 +35,7 @@ impl Converter<'_> {
                 }
             }
             "spot" => {
-                let (origin, _, _, z) = columns(&to_world.unwrap_or_default());
+                let (origin, _, y, z) = columns(&to_world.unwrap_or_default());
                 let z = if to_world.is_some() { z } else { DVec3::Z };
                 let cutoff = e.float_or("cutoff_angle", 20.0)?;
                 LightDesc::Spot {
@@ -45,6 +45,43 @@ impl Converter<'_> {
                     intensity: 1.0,
                     cutoff_angle: cutoff as f32,
                     beam_width: e.float("beam_width")?.map(|b| b as f32),
+                    texture: texture(self, e, "texture", SpectrumUse::Emission)?,
+                    up: to_world.map(|_| f32s(y)),
+                }
+            }
+            "projector" => {
+                let m = to_world.unwrap_or_default();
+                let (origin, _, y, z) = columns(&m);
+                if e.prop("focal_length").is_some() {
+                    let p = e.prop("focal_length").expect("present");
+                    return Err(p.error("give the field of view as <float name=\"fov\">"));
+                }
+                let fov = e.float("fov")?;
+                if let Some(f) = fov {
+                    if !(f > 0.0 && f < 180.0) {
+                        let p = e.prop("fov").expect("read above");
+                        return Err(
+                            p.error(format!("the field of view must be in (0, 180), got {f}"))
+                        );
+                    }
+                }
+                let fov_axis = match e.string("fov_axis")? {
+                    None => None,
+                    Some(a) => Some(fov_axis(a).ok_or_else(|| {
+                        e.prop("fov_axis").expect("read above").error(format!(
+                            "unknown fov_axis \"{a}\" (x, y, diagonal, smaller or larger)"
+                        ))
+                    })?),
+                };
+                LightDesc::Projector {
+                    position: f32s(origin),
+                    look_at: f32s(origin + z.normalize()),
+                    up: Some(f32s(y)),
+                    irradiance: texture(self, e, "irradiance", SpectrumUse::Emission)?
+                        .unwrap_or(TextureDesc::Value(1.0)),
+                    scale: e.float_or("scale", 1.0)? as f32,
+                    fov: fov.map(|f| f as f32),
+                    fov_axis,
                 }
             }
             "directional" => {

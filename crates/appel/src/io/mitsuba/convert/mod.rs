@@ -185,19 +185,11 @@ impl Converter<'_> {
                     );
                 }
                 camera.fov = fov as f32;
-                camera.fov_axis = match axis {
-                    "x" => FovAxis::X,
-                    "y" => FovAxis::Y,
-                    "diagonal" => FovAxis::Diagonal,
-                    "smaller" => FovAxis::Smaller,
-                    "larger" => FovAxis::Larger,
-                    a => {
-                        let p = s.prop("fov_axis").expect("read above");
-                        return Err(p.error(format!(
-                            "unknown fov_axis \"{a}\" (x, y, diagonal, smaller or larger)"
-                        )));
-                    }
-                };
+                camera.fov_axis = fov_axis(axis).ok_or_else(|| {
+                    s.prop("fov_axis").expect("read above").error(format!(
+                        "unknown fov_axis \"{axis}\" (x, y, diagonal, smaller or larger)"
+                    ))
+                })?;
             }
             // Mitsuba's orthographic camera sees [-1, 1] across x in its own space; to_world
             // scales that.
@@ -342,6 +334,18 @@ fn sampler_desc(s: &Object, render: &mut RenderDesc) -> Result<()> {
 }
 
 /// Origin and the three axis columns of an affine map.
+/// Mitsuba's `fov_axis` names.
+fn fov_axis(name: &str) -> Option<FovAxis> {
+    Some(match name {
+        "x" => FovAxis::X,
+        "y" => FovAxis::Y,
+        "diagonal" => FovAxis::Diagonal,
+        "smaller" => FovAxis::Smaller,
+        "larger" => FovAxis::Larger,
+        _ => return None,
+    })
+}
+
 fn columns(m: &DMat4) -> (DVec3, DVec3, DVec3, DVec3) {
     (
         m.w_axis.truncate(),
