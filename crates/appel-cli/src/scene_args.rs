@@ -31,6 +31,10 @@ pub struct ViewArgs {
     /// Override camera.fov (vertical, degrees).
     #[arg(long)]
     pub fov: Option<f32>,
+    /// View a glTF file through its camera N (0-based, in node order); by default its first
+    /// camera, or automatic framing if it has none.
+    #[arg(long, value_name = "N")]
+    pub camera: Option<usize>,
 }
 
 impl ViewArgs {
@@ -90,8 +94,15 @@ pub fn load_scene(
     xml: &XmlOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
 ) -> Result<(Scene, Duration)> {
-    load_scene_with(name, xml, adjust, SceneOptions::default())
+    load_scene_with(name, xml, adjust, SceneOptions::default(), None)
 }
+
+/// Samples per pixel of a mesh file with physically based materials, rendered by the path tracer
+/// unless `--spp` says otherwise: enough for a clean preview of a textured model.
+const MODEL_SPP: u32 = 32;
+
+/// Path length for mesh files with physically based materials (a few bounces of indirect light).
+const MODEL_MAX_DEPTH: i32 = 6;
 
 /// [`load_scene`] with progress reports and cancellation while files load and structures build.
 /// Before anything large is read, the scene's estimated memory is checked against what is
@@ -101,6 +112,7 @@ pub fn load_scene_with(
     xml: &XmlOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
     options: SceneOptions,
+    camera: Option<usize>,
 ) -> Result<(Scene, Duration)> {
     let start = Instant::now();
     let (mut description, base_dir, is_model) = read_scene_or_model(name, xml)?;
@@ -108,14 +120,75 @@ pub fn load_scene_with(
     check(&description)?;
     crate::memory::check_memory(&description, &base_dir)?;
     let parse_time = start.elapsed();
+    if camera.is_some() && !is_model {
+        bail!(
+            "--camera picks a camera of a glTF file; `{}` is a scene, whose camera is its own",
+            name.unwrap_or("whitted")
+        );
+    }
     let mut scene = Scene::new_with(&description, &base_dir, options)?;
+    for w in &scene.from_files.warnings {
+        eprintln!("warning: {w}");
+    }
     if is_model {
-        let mut framed = frame_model(&description, scene.geometry.bounds());
-        adjust(&mut framed)?;
-        check(&framed)?;
+        let framed = model_view(&scene, &description, camera, &adjust)?;
         scene.set_view(&framed)?;
+        scene.settings.integrator = framed.render.integrator;
+        scene.settings.spp = framed.render.spp;
+        scene.settings.max_depth = framed.render.max_depth;
     }
     Ok((scene, parse_time))
+}
+
+/// How a mesh file is viewed: framed automatically, or through the file's own camera; lit by the
+/// file's lights if it has any, else by the framing's. A file with physically based materials is
+/// path traced (unless the command line says otherwise), as its author meant it to be seen.
+fn model_view(
+    scene: &Scene,
+    description: &Description,
+    camera: Option<usize>,
+    adjust: &impl Fn(&mut Description) -> Result<()>,
+) -> Result<Description> {
+    let files = &scene.from_files;
+    let mut framed = frame_model(description, scene.geometry.bounds());
+    if files.physically_based {
+        framed.render.integrator = appel::scene::IntegratorKind::Path;
+        framed.render.spp = MODEL_SPP;
+        framed.render.max_depth = MODEL_MAX_DEPTH;
+    }
+    if !files.lights.is_empty() {
+        framed.lights = files.lights.clone();
+    }
+    let chosen = match (camera, files.cameras.len()) {
+        (None, 0) => None,
+        (None, _) => Some(0),
+        (Some(_), 0) => bail!("--camera: the file has no cameras"),
+        (Some(n), count) if n >= count => bail!(
+            "--camera {n}: the file has {count} camera{} ({})",
+            if count == 1 { "" } else { "s" },
+            files
+                .cameras
+                .iter()
+                .enumerate()
+                .map(|(i, c)| format!("{i}: {}", c.name))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        (Some(n), _) => Some(n),
+    };
+    if let Some(c) = chosen.map(|i| &files.cameras[i]) {
+        let (width, height) = (framed.camera.width, framed.camera.height);
+        framed.camera = appel::scene::description::CameraDesc {
+            width,
+            height: c
+                .aspect
+                .map_or(height, |a| ((width as f32 / a).round() as u32).max(1)),
+            ..c.camera.clone()
+        };
+    }
+    adjust(&mut framed)?;
+    check(&framed)?;
+    Ok(framed)
 }
 
 fn check(d: &Description) -> Result<()> {
@@ -134,18 +207,25 @@ fn read_scene_or_model(
         bail!("-D sets parameters of a Mitsuba 3 XML scene (.xml); `{name}` is not one");
     }
     if is_mesh_file(path) {
-        let file = path
+        // An archive's entry (`x.zip:dir/m.obj`) is named relative to the archive's folder.
+        let archive = appel::io::assets::archive_path(path);
+        let file_path = archive.as_ref().map_or(path, |a| a.archive.as_path());
+        let file = file_path
             .file_name()
             .and_then(|f| f.to_str())
             .ok_or_else(|| anyhow!("`{name}`: the file name is not valid UTF-8"))?;
-        if !path.is_file() {
-            bail!("{name}: no such mesh file");
+        let file = match archive.as_ref().and_then(|a| a.inner.as_deref()) {
+            Some(inner) => format!("{file}:{inner}"),
+            None => file.to_string(),
+        };
+        if !file_path.is_file() {
+            bail!("{}: no such mesh file", file_path.display());
         }
-        let base_dir = match path.parent() {
+        let base_dir = match file_path.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        return Ok((model_description(file), base_dir, true));
+        return Ok((model_description(&file), base_dir, true));
     }
     if Syntax::from_path(path).is_none() && !path.exists() {
         if let Some(text) = builtin_scene(name) {
