@@ -101,6 +101,10 @@ pub fn load_scene(
 /// unless `--spp` says otherwise: enough for a clean preview of a textured model.
 const MODEL_SPP: u32 = 32;
 
+/// Radiance of the uniform sky around a mesh file with physically based materials and no lights of
+/// its own: a white diffuse surface under it alone comes out at this value.
+const MODEL_SKY: f32 = 0.5;
+
 /// Path length for mesh files with physically based materials (a few bounces of indirect light).
 const MODEL_MAX_DEPTH: i32 = 6;
 
@@ -158,6 +162,14 @@ fn model_view(
     }
     if !files.lights.is_empty() {
         framed.lights = files.lights.clone();
+    } else if files.physically_based {
+        // Metals show what they reflect: without an environment they would mirror black. A
+        // uniform grey sky (what a studio preview uses) makes them read as metal.
+        framed
+            .lights
+            .push(appel::scene::description::LightDesc::Constant {
+                radiance: [MODEL_SKY; 3],
+            });
     }
     let chosen = match (camera, files.cameras.len()) {
         (None, 0) => None,

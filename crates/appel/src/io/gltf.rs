@@ -175,16 +175,8 @@ fn parse(
     for node in roots {
         ctx.node(&node, Mat4::IDENTITY, 0)?;
     }
-    out.warnings = out
-        .images
-        .iter()
-        .filter_map(|i| {
-            i.bytes
-                .as_ref()
-                .err()
-                .map(|e| format!("image {e}: the materials using it render without it"))
-        })
-        .collect();
+    out.warnings
+        .extend(super::mesh_file::unreadable_images(&out.images));
     Ok(out)
 }
 

@@ -284,6 +284,25 @@ impl LoadedMesh {
     }
 }
 
+/// One warning for the images that could not be read: the materials using them render with their
+/// factors alone.
+pub(crate) fn unreadable_images(images: &[FileImage]) -> Vec<String> {
+    let bad: Vec<&String> = images
+        .iter()
+        .filter_map(|i| i.bytes.as_ref().err())
+        .collect();
+    match bad.as_slice() {
+        [] => vec![],
+        [one] => vec![format!(
+            "texture {one}; the materials using it render without it"
+        )],
+        [first, rest @ ..] => vec![format!(
+            "{} textures cannot be read (the first: {first}); the materials using them render without them",
+            rest.len() + 1
+        )],
+    }
+}
+
 /// Moves a light placed by a file along with the file's transform.
 pub(crate) fn transform_light(l: &mut LightDesc, m: Mat4) {
     let p = |v: &mut [f32; 3]| *v = m.transform_point3((*v).into()).into();

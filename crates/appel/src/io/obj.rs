@@ -309,15 +309,7 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
             }
         })
         .collect();
-    let warnings = images
-        .iter()
-        .filter_map(|i| {
-            i.bytes
-                .as_ref()
-                .err()
-                .map(|e| format!("texture {e}: its materials render without it"))
-        })
-        .collect();
+    let warnings = super::mesh_file::unreadable_images(&images);
     Ok(LoadedMesh {
         parts,
         materials,
