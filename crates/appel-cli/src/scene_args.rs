@@ -7,8 +7,8 @@ use appel::io::mitsuba::XmlOptions;
 use appel::scene::builtin::builtin_scene;
 use appel::scene::parse::Syntax;
 use appel::scene::{
-    description_from_str, frame_model, is_xml, load_description, load_xml_description,
-    model_description, validate, Description, Scene, SceneOptions,
+    description_from_str, is_xml, load_description, load_xml_description, model_description,
+    validate, view_model, Description, Scene, SceneOptions,
 };
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -97,17 +97,6 @@ pub fn load_scene(
     load_scene_with(name, xml, adjust, SceneOptions::default(), None)
 }
 
-/// Samples per pixel of a mesh file with physically based materials, rendered by the path tracer
-/// unless `--spp` says otherwise: enough for a clean preview of a textured model.
-const MODEL_SPP: u32 = 32;
-
-/// Radiance of the uniform sky around a mesh file with physically based materials and no lights of
-/// its own: a white diffuse surface under it alone comes out at this value.
-const MODEL_SKY: f32 = 0.5;
-
-/// Path length for mesh files with physically based materials (a few bounces of indirect light).
-const MODEL_MAX_DEPTH: i32 = 6;
-
 /// [`load_scene`] with progress reports and cancellation while files load and structures build.
 /// Before anything large is read, the scene's estimated memory is checked against what is
 /// available.
@@ -144,60 +133,16 @@ pub fn load_scene_with(
     Ok((scene, parse_time))
 }
 
-/// How a mesh file is viewed: framed automatically, or through the file's own camera; lit by the
-/// file's lights if it has any, else by the framing's. A file with physically based materials is
-/// path traced (unless the command line says otherwise), as its author meant it to be seen.
+/// The library's view of a mesh file (see `appel::scene::view_model`), then the command line's
+/// overrides.
 fn model_view(
     scene: &Scene,
     description: &Description,
     camera: Option<usize>,
     adjust: &impl Fn(&mut Description) -> Result<()>,
 ) -> Result<Description> {
-    let files = &scene.from_files;
-    let mut framed = frame_model(description, scene.geometry.bounds());
-    if files.physically_based {
-        framed.render.integrator = appel::scene::IntegratorKind::Path;
-        framed.render.spp = MODEL_SPP;
-        framed.render.max_depth = MODEL_MAX_DEPTH;
-    }
-    if !files.lights.is_empty() {
-        framed.lights = files.lights.clone();
-    } else if files.physically_based {
-        // Metals show what they reflect: without an environment they would mirror black. A
-        // uniform grey sky (what a studio preview uses) makes them read as metal.
-        framed
-            .lights
-            .push(appel::scene::description::LightDesc::Constant {
-                radiance: [MODEL_SKY; 3],
-            });
-    }
-    let chosen = match (camera, files.cameras.len()) {
-        (None, 0) => None,
-        (None, _) => Some(0),
-        (Some(_), 0) => bail!("--camera: the file has no cameras"),
-        (Some(n), count) if n >= count => bail!(
-            "--camera {n}: the file has {count} camera{} ({})",
-            if count == 1 { "" } else { "s" },
-            files
-                .cameras
-                .iter()
-                .enumerate()
-                .map(|(i, c)| format!("{i}: {}", c.name))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-        (Some(n), _) => Some(n),
-    };
-    if let Some(c) = chosen.map(|i| &files.cameras[i]) {
-        let (width, height) = (framed.camera.width, framed.camera.height);
-        framed.camera = appel::scene::description::CameraDesc {
-            width,
-            height: c
-                .aspect
-                .map_or(height, |a| ((width as f32 / a).round() as u32).max(1)),
-            ..c.camera.clone()
-        };
-    }
+    let mut framed =
+        view_model(scene, description, camera).map_err(|e| anyhow!("--camera: {e}"))?;
     adjust(&mut framed)?;
     check(&framed)?;
     Ok(framed)

@@ -25,7 +25,7 @@ pub use camera::Camera;
 pub use description::Description;
 use description::ShapeDesc;
 pub use emitters::{SceneEmitters, NO_EMITTER};
-pub use frame::{frame_model, model_description};
+pub use frame::{frame_model, model_description, view_model};
 pub use geometry::{
     Geometry, PrimRef, PrimRefs, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE,
 };
