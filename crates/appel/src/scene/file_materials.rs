@@ -15,7 +15,7 @@ use super::description::WhittedDesc;
 use super::Material as WhittedMaterial;
 use crate::error::Result;
 use crate::io::bitmap_read::{decode_bitmap, Bitmap};
-use crate::io::{AlphaMode, FileImage, FileMaterial, FileTexture, LoadedMesh};
+use crate::io::{AlphaMode, FileMaterial, FileTexture, LoadedMesh};
 use crate::shading::bsdf::principled::specular_to_eta;
 use crate::shading::material::{Material, PrincipledTextures};
 use crate::shading::texture::{luminance, BitmapTexture, Texture};
@@ -42,16 +42,15 @@ pub fn is_physically_based(m: &FileMaterial) -> bool {
 }
 
 /// The decoded images of one file, by (image, raw).
-pub struct Images<'a> {
-    files: &'a [FileImage],
+pub struct Images {
     decoded: HashMap<(u32, bool), Arc<Bitmap>>,
 }
 
-impl<'a> Images<'a> {
+impl Images {
     /// Decodes every image the physically based materials of `loaded` read (normal, bump and
     /// occlusion maps are not used, so not decoded). An image that could not be read was reported
     /// as a warning by the reader and is skipped; one that cannot be decoded is an error.
-    pub fn decode(loaded: &'a LoadedMesh) -> Result<Self> {
+    pub fn decode(loaded: &LoadedMesh) -> Result<Self> {
         let mut wanted: Vec<(u32, bool)> = vec![];
         for m in loaded.materials.iter().filter(|m| is_physically_based(m)) {
             let mut want = |t: &Option<FileTexture>, raw: bool| {
@@ -74,7 +73,8 @@ impl<'a> Images<'a> {
             }
         }
         let files = &loaded.images;
-        let decoded: Vec<((u32, bool), Option<Arc<Bitmap>>)> = wanted
+        type Decoded = ((u32, bool), Option<Arc<Bitmap>>);
+        let decoded: Vec<Decoded> = wanted
             .par_iter()
             .map(|&(i, raw)| {
                 let Some(f) = files.get(i as usize) else {
@@ -88,7 +88,6 @@ impl<'a> Images<'a> {
             })
             .collect::<Result<_>>()?;
         Ok(Self {
-            files,
             decoded: decoded
                 .into_iter()
                 .filter_map(|(k, b)| b.map(|b| (k, b)))
@@ -97,7 +96,6 @@ impl<'a> Images<'a> {
     }
 
     fn get(&self, t: &FileTexture, raw: bool) -> Option<&Arc<Bitmap>> {
-        let _ = self.files;
         self.decoded.get(&(t.image, raw))
     }
 

@@ -25,6 +25,7 @@ fn fits(x: &InstanceTransform, bounds: crate::math::Aabb) -> bool {
 /// Loads every declared mesh that an instance uses, builds its structure (of the scene's kind), and adds the instances
 /// (their `shapeid` continues the numbering of the `[[shape]]` entries). Returns the time spent
 /// building the prototypes' structures, which belongs to the build phase, not loading.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn add_instances(
     d: &Description,
     base_dir: &Path,
