@@ -127,6 +127,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             &xml,
             |d| apply_settings(d, &args),
             scene_options,
+            args.view.camera,
         )
     });
     if let Some(b) = load_bar {

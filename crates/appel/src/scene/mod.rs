@@ -6,6 +6,7 @@ pub mod builtin;
 mod camera;
 pub mod description;
 mod emitters;
+mod file_materials;
 mod frame;
 mod geometry;
 mod instance;
@@ -24,7 +25,7 @@ pub use camera::Camera;
 pub use description::Description;
 use description::ShapeDesc;
 pub use emitters::{SceneEmitters, NO_EMITTER};
-pub use frame::{frame_model, model_description};
+pub use frame::{frame_model, model_description, view_model};
 pub use geometry::{
     Geometry, PrimRef, PrimRefs, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE,
 };
@@ -32,6 +33,7 @@ pub use instance::{Instance, Prototype};
 pub use light::Light;
 pub use material::{Checker, Material};
 pub use memory::{estimate_memory, MemoryEstimate};
+pub use mesh_shape::FileExtras;
 pub use progress::{LoadStep, SceneOptions};
 
 use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
@@ -115,6 +117,9 @@ pub struct Scene {
     pub background: Vec3,
     pub ambient: Vec3,
     pub timings: SceneTimings,
+    /// What the scene's mesh files brought besides triangles (materials, emitting surfaces, lights,
+    /// cameras, warnings).
+    pub from_files: FileExtras,
 }
 
 /// A scene description read from a file, and the folder its relative paths are relative to.
@@ -280,6 +285,7 @@ impl Scene {
                 .map(|m| Material::approximating(m, &d.materials)),
         );
         let mut geometry = Geometry::new(triangle_test);
+        let mut from_files = FileExtras::default();
         for (index, s) in d.shapes.iter().enumerate() {
             let first_new_shape = geometry.shapes.len();
             let first_new_instance = geometry.instances.len();
@@ -348,6 +354,7 @@ impl Scene {
                     mesh_shape::add_mesh_file(
                         &mut geometry,
                         &mut materials,
+                        &mut from_files,
                         &base_dir.join(&m.file),
                         m.transform.as_ref(),
                         m.material.is_some().then_some(material),
@@ -383,6 +390,7 @@ impl Scene {
             &settings,
             &mut geometry,
             &mut materials,
+            &mut from_files,
             |m| {
                 names
                     .iter()
@@ -405,8 +413,9 @@ impl Scene {
         let accel = Accel::build_with(top_level, &geometry, &settings.accel_options);
         let build = build_start.elapsed() + prototype_build;
         let mut textures = textures::TextureCache::new(base_dir);
-        let emitters = SceneEmitters::build(d, &geometry, &mut textures)?;
-        let shading_materials = shading_materials::build(d, &materials, &mut textures)?;
+        let emitters = SceneEmitters::build(d, &geometry, &from_files.emission, &mut textures)?;
+        let shading_materials =
+            shading_materials::build(d, &materials, &from_files.shading, &mut textures)?;
         let has_masks = shading_materials.iter().any(|m| m.has_mask());
         steps.step("built the top-level structure")?;
         Ok(Scene {
@@ -422,6 +431,7 @@ impl Scene {
             background: d.environment.background.into(),
             ambient: d.environment.ambient.into(),
             timings: SceneTimings { load, build },
+            from_files,
         })
     }
 
@@ -470,6 +480,7 @@ impl Scene {
         self.emitters = SceneEmitters::build(
             d,
             &self.geometry,
+            &self.from_files.emission,
             &mut textures::TextureCache::new(Path::new(".")),
         )?;
         self.background = d.environment.background.into();

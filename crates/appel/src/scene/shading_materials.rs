@@ -16,9 +16,12 @@ use glam::{Mat3, Vec2, Vec3};
 /// Mitsuba's default roughness.
 const DEFAULT_ALPHA: f32 = 0.1;
 
+/// `from_files` are mesh files' physically based materials, by index; the other entries past the
+/// described ones are read from their Whitted view.
 pub fn build(
     d: &Description,
     whitted: &[WhittedMaterial],
+    from_files: &[(u32, Material)],
     textures: &mut TextureCache,
 ) -> Result<Vec<Material>> {
     let names: Vec<&String> = d.materials.keys().collect();
@@ -37,6 +40,9 @@ pub fn build(
         );
     }
     out.extend(whitted[out.len()..].iter().map(from_whitted));
+    for (i, m) in from_files {
+        out[*i as usize] = m.clone();
+    }
     Ok(out)
 }
 

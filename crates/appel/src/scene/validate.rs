@@ -662,7 +662,7 @@ fn transform(c: &mut Checker, t: &TransformDesc) -> Check {
 pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid> {
     let exists = |f: &str, what: &str, path: Vec<PathSeg>| {
         let p = base_dir.join(f);
-        if p.is_file() {
+        if p.is_file() || (what == "mesh file" && crate::io::mesh_source_exists(&p)) {
             Ok(())
         } else {
             Err(Invalid {
@@ -687,7 +687,7 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
     for (i, s) in d.shapes.iter().enumerate() {
         if let ShapeDesc::Mesh(m) = s {
             let p = base_dir.join(&m.file);
-            if !p.is_file() {
+            if !crate::io::mesh_source_exists(&p) {
                 return Err(Invalid {
                     path: vec![key("shape"), PathSeg::Index(i), key("file")],
                     message: format!("the mesh file `{}` does not exist", p.display()),
