@@ -163,6 +163,8 @@ fn whitted_equivalent(
         },
         MaterialDesc::TwoSided(t) => nested(&t.front),
         MaterialDesc::Mask(m) => nested(&m.material),
+        MaterialDesc::NormalMap(m) => nested(&m.material),
+        MaterialDesc::BumpMap(m) => nested(&m.material),
     }
 }
 

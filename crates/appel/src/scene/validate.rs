@@ -315,6 +315,8 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
     for (k, r) in match m {
         MaterialDesc::TwoSided(t) => vec![("front", Some(&t.front)), ("back", t.back.as_ref())],
         MaterialDesc::Mask(mask) => vec![("material", Some(&mask.material))],
+        MaterialDesc::NormalMap(x) => vec![("material", Some(&x.material))],
+        MaterialDesc::BumpMap(x) => vec![("material", Some(&x.material))],
         _ => vec![],
     } {
         let Some(r) = r else { continue };
@@ -324,6 +326,8 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
         }
     }
     // Wrapping chains end: a material reaches no material twice.
+    let is_map =
+        |m: &MaterialDesc| matches!(m, MaterialDesc::NormalMap(_) | MaterialDesc::BumpMap(_));
     let mut seen = vec![name];
     let mut frontier = m.references();
     while let Some(next) = frontier.pop() {
@@ -334,8 +338,17 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
             );
         }
         seen.push(next);
-        if let Some(m) = d.materials.get(next) {
-            frontier.extend(m.references());
+        if let Some(inner) = d.materials.get(next) {
+            // One perturbed frame per surface: the material layer composes one.
+            if is_map(m) && is_map(inner) {
+                return c.fail(
+                    "material",
+                    format!(
+                        "normal and bump maps cannot wrap one another (`{name}` wraps `{next}`)"
+                    ),
+                );
+            }
+            frontier.extend(inner.references());
         }
     }
     Ok(())

@@ -3,10 +3,12 @@
 //! constants (the plastics' precomputed albedos) is computed once, at scene load.
 
 use super::bsdf::{
-    Bsdf, Conductor, Dielectric, Diffuse, Microfacet, MicrofacetKind, Plastic, PlasticParams,
-    Principled, PrincipledThin, RoughConductor, RoughDielectric, RoughPlastic, RoughPlasticParams,
-    ThinDielectric,
+    Bsdf, BsdfFlags, BsdfSample, Conductor, Dielectric, Diffuse, Microfacet, MicrofacetKind,
+    Plastic, PlasticParams, Principled, PrincipledThin, RoughConductor, RoughDielectric,
+    RoughPlastic, RoughPlasticParams, ThinDielectric,
 };
+use super::frame::ShadingFrame;
+use super::perturb::{normal_from_bump, normal_from_map, Perturbation};
 use super::texture::Texture;
 use crate::math::{Vec2, Vec3};
 
@@ -66,6 +68,21 @@ pub enum Material {
     Mask {
         opacity: Texture,
         inner: u32,
+    },
+    /// `inner` around the normal a tangent-space normal map gives (Mitsuba's `normalmap`).
+    NormalMap {
+        normals: Texture,
+        inner: u32,
+        flip_invalid: bool,
+        shadowing: bool,
+    },
+    /// `inner` around the normal of a height field scaled by `scale` (Mitsuba's `bumpmap`).
+    BumpMap {
+        height: Texture,
+        scale: f32,
+        inner: u32,
+        flip_invalid: bool,
+        shadowing: bool,
     },
 }
 
@@ -127,12 +144,104 @@ impl Roughness {
     }
 }
 
-/// The BSDF at a surface point, and whether it is seen from behind a two-sided material (the
-/// integrator then mirrors directions through the surface before evaluating it).
+/// What a material needs to know of the surface point, in the coordinates of its shading frame
+/// (`z` = shading normal, `x` along dp/du).
+#[derive(Clone, Copy, Debug)]
+pub struct SurfacePoint {
+    pub uv: Vec2,
+    /// Toward the viewer (or the previous path vertex).
+    pub wo: Vec3,
+    pub dpdu: Vec3,
+    pub dpdv: Vec3,
+    /// The geometric normal.
+    pub n: Vec3,
+}
+
+impl SurfacePoint {
+    /// The point `si` with its directions in `frame`, seen from world direction `wo`.
+    pub fn new(si: &crate::geometry::SurfaceInteraction, frame: &ShadingFrame, wo: Vec3) -> Self {
+        SurfacePoint {
+            uv: si.uv,
+            wo: frame.to_local(wo),
+            dpdu: frame.to_local(si.dpdu),
+            dpdv: frame.to_local(si.dpdv),
+            n: frame.to_local(si.n),
+        }
+    }
+}
+
+/// The BSDF at a surface point with the wrappers around it resolved: a two-sided material seen
+/// from behind mirrors directions through the surface (`flip_outer`, or `flip_inner` inside a
+/// normal or bump map), a normal or bump map turns them into its perturbed frame. Directions in
+/// and out are in the surface's shading frame.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceBsdf {
     pub bsdf: Bsdf,
-    pub flipped: bool,
+    flip_outer: bool,
+    perturbation: Option<Perturbation>,
+    flip_inner: bool,
+}
+
+#[inline]
+fn flip_if(flip: bool, mut w: Vec3) -> Vec3 {
+    if flip {
+        w.z = -w.z;
+    }
+    w
+}
+
+impl SurfaceBsdf {
+    /// A BSDF with no wrapper.
+    pub fn plain(bsdf: Bsdf) -> Self {
+        SurfaceBsdf {
+            bsdf,
+            flip_outer: false,
+            perturbation: None,
+            flip_inner: false,
+        }
+    }
+
+    pub fn flags(&self) -> BsdfFlags {
+        self.bsdf.flags()
+    }
+
+    /// [`Bsdf::eval_pdf`] through the wrappers. A perturbed frame gives nothing where `wi` lies on
+    /// different sides of the two frames' surfaces, and its value (not its pdf) carries the
+    /// terminator shadowing.
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        let (wo, wi) = (flip_if(self.flip_outer, wo), flip_if(self.flip_outer, wi));
+        let Some(p) = &self.perturbation else {
+            return self.bsdf.eval_pdf(wo, wi);
+        };
+        let (pwo, pwi) = (p.frame.to_local(wo), p.frame.to_local(wi));
+        if wi.z * pwi.z <= 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        let (pwo, pwi) = (flip_if(self.flip_inner, pwo), flip_if(self.flip_inner, pwi));
+        let (f, pdf) = self.bsdf.eval_pdf(pwo, pwi);
+        (f * p.attenuation(wi), pdf)
+    }
+
+    /// [`Bsdf::sample`] through the wrappers; `None` also where a perturbed frame rejects the
+    /// direction.
+    pub fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
+        let wo = flip_if(self.flip_outer, wo);
+        let Some(p) = &self.perturbation else {
+            let mut s = self.bsdf.sample(wo, u1, u2)?;
+            s.wi = flip_if(self.flip_outer, s.wi);
+            return Some(s);
+        };
+        let pwo = flip_if(self.flip_inner, p.frame.to_local(wo));
+        let mut s = self.bsdf.sample(pwo, u1, u2)?;
+        let pwi = flip_if(self.flip_inner, s.wi);
+        let wi = p.frame.to_world(pwi);
+        if wi.z * pwi.z <= 0.0 {
+            return None;
+        }
+        s.weight *= p.attenuation(wi);
+        s.wi = flip_if(self.flip_outer, wi);
+        Some(s)
+    }
 }
 
 /// How deep two-sided and mask materials may nest (validation rejects cycles; this bounds the
@@ -140,32 +249,72 @@ pub struct SurfaceBsdf {
 const MAX_NESTING: u32 = 16;
 
 impl Material {
-    /// The BSDF of material `index` of `materials` at texture coordinates `uv`, for a direction
-    /// `wo` whose local z is `cos_wo` (its sign picks the side of a two-sided material). Masks are
-    /// not resolved here: see [`Self::opacity`].
-    pub fn bsdf(materials: &[Material], index: u32, uv: Vec2, cos_wo: f32) -> SurfaceBsdf {
+    /// The BSDF of material `index` of `materials` at surface point `at`. Masks are not resolved
+    /// here: see [`Self::opacity`].
+    pub fn bsdf(materials: &[Material], index: u32, at: &SurfacePoint) -> SurfaceBsdf {
+        let uv = at.uv;
         let mut m = &materials[index as usize];
-        let mut flipped = false;
+        let mut out = SurfaceBsdf::plain(Bsdf::Diffuse(Diffuse::new(Vec3::ZERO)));
+        // `wo` as the wrapper being resolved sees it.
+        let mut wo = at.wo;
         for _ in 0..MAX_NESTING {
             match m {
                 Material::TwoSided { front, back } => {
                     // Mitsuba's twosided: below the surface, the back material with directions
                     // mirrored.
-                    if cos_wo < 0.0 {
-                        flipped = !flipped;
+                    if wo.z < 0.0 {
+                        if out.perturbation.is_some() {
+                            out.flip_inner = !out.flip_inner;
+                        } else {
+                            out.flip_outer = !out.flip_outer;
+                        }
+                        wo.z = -wo.z;
                         m = &materials[*back as usize];
                     } else {
                         m = &materials[*front as usize];
                     }
                 }
                 Material::Mask { inner, .. } => m = &materials[*inner as usize],
+                // Validation allows one map in a chain; a second would be passed through.
+                Material::NormalMap { inner, .. } | Material::BumpMap { inner, .. }
+                    if out.perturbation.is_some() =>
+                {
+                    m = &materials[*inner as usize]
+                }
+                Material::NormalMap {
+                    normals,
+                    inner,
+                    flip_invalid,
+                    shadowing,
+                } => {
+                    // The map's normal is relative to the unmirrored shading frame, as Mitsuba's
+                    // adapter reads it from the surface interaction a two-sided BSDF leaves as it
+                    // is (only the directions are mirrored).
+                    let n = normal_from_map(normals.eval(uv));
+                    let p = Perturbation::new(n, wo, *flip_invalid, *shadowing);
+                    wo = p.frame.to_local(wo);
+                    out.perturbation = Some(p);
+                    m = &materials[*inner as usize];
+                }
+                Material::BumpMap {
+                    height,
+                    scale,
+                    inner,
+                    flip_invalid,
+                    shadowing,
+                } => {
+                    let grad = *scale * height.eval_1_grad(uv);
+                    let n = normal_from_bump(grad, at.dpdu, at.dpdv, at.n);
+                    let p = Perturbation::new(n, wo, *flip_invalid, *shadowing);
+                    wo = p.frame.to_local(wo);
+                    out.perturbation = Some(p);
+                    m = &materials[*inner as usize];
+                }
                 _ => break,
             }
         }
-        SurfaceBsdf {
-            bsdf: m.leaf_bsdf(uv),
-            flipped,
-        }
+        out.bsdf = m.leaf_bsdf(uv);
+        out
     }
 
     /// The probability that the surface is there at `uv` (1 unless a mask wraps the material).
@@ -276,9 +425,14 @@ impl Material {
                 diffuse_trans_rate: p.rates[3],
             }),
             // Resolved by `bsdf`; reached only past the nesting bound, as black.
-            Material::TwoSided { .. } | Material::Mask { .. } => {
-                Bsdf::Diffuse(Diffuse::new(Vec3::ZERO))
-            }
+            Material::TwoSided { .. }
+            | Material::Mask { .. }
+            | Material::NormalMap { .. }
+            | Material::BumpMap { .. } => Bsdf::Diffuse(Diffuse::new(Vec3::ZERO)),
         }
     }
 }
+
+#[cfg(test)]
+#[path = "material_tests.rs"]
+mod tests;

@@ -36,6 +36,10 @@ pub enum MaterialDesc {
     TwoSided(TwoSidedDesc),
     /// Cut-outs: the surface is there with probability `opacity`, else rays pass through.
     Mask(MaskDesc),
+    /// `material` shaded around the normals of a tangent-space normal map.
+    NormalMap(NormalMapDesc),
+    /// `material` shaded around the normals of a height field.
+    BumpMap(BumpMapDesc),
 }
 
 /// Reads `[materials]`: a table without `type` is a Whitted material, as every material was before
@@ -75,6 +79,8 @@ impl MaterialDesc {
                 .chain(t.back.as_deref())
                 .collect(),
             MaterialDesc::Mask(m) => vec![m.material.as_str()],
+            MaterialDesc::NormalMap(m) => vec![m.material.as_str()],
+            MaterialDesc::BumpMap(m) => vec![m.material.as_str()],
             _ => vec![],
         }
     }
@@ -122,6 +128,8 @@ impl MaterialDesc {
                 opt("alpha_v", &p.alpha_v),
             ],
             MaterialDesc::Mask(m) => vec![Some(("opacity", &m.opacity))],
+            MaterialDesc::NormalMap(m) => vec![Some(("normalmap", &m.normalmap))],
+            MaterialDesc::BumpMap(m) => vec![Some(("bumpmap", &m.bumpmap))],
             MaterialDesc::Principled(p) => vec![
                 Some(("base_color", &p.base_color)),
                 Some(("roughness", &p.roughness)),
@@ -506,6 +514,39 @@ pub struct MaskDesc {
     pub opacity: TextureDesc,
     /// The material where the surface is present.
     pub material: String,
+}
+
+/// A tangent-space normal map: RGB in [0, 1] is the normal in [-1, 1]^3 relative to the shading
+/// frame (x along dp/du, z the shading normal). Give bitmaps `raw = true`: the values are not
+/// colours.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct NormalMapDesc {
+    pub normalmap: TextureDesc,
+    /// The material shaded with the perturbed normals.
+    pub material: String,
+    /// Turn normals that face away from the viewer towards it (Mitsuba's default).
+    #[serde(default = "yes")]
+    pub flip_invalid_normals: bool,
+    /// Soften the shadow terminator of tilted normals (Conty Estevez et al. 2019; Mitsuba's
+    /// default).
+    #[serde(default = "yes")]
+    pub use_shadowing_function: bool,
+}
+
+/// A bump map: the height field's gradient in uv (its grey value or luminance), times `scale`,
+/// tilts the normal.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BumpMapDesc {
+    pub bumpmap: TextureDesc,
+    #[serde(default = "one_f")]
+    pub scale: f32,
+    pub material: String,
+    #[serde(default = "yes")]
+    pub flip_invalid_normals: bool,
+    #[serde(default = "yes")]
+    pub use_shadowing_function: bool,
 }
 
 fn half() -> TextureDesc {

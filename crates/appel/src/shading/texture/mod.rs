@@ -54,6 +54,15 @@ impl Texture {
         }
     }
 
+    /// The gradient of [`Self::eval_1`] in (u, v): zero for the piecewise constant textures, as
+    /// Mitsuba's constant and checkerboard textures answer.
+    pub fn eval_1_grad(&self, uv: Vec2) -> Vec2 {
+        match self {
+            Texture::Bitmap(b) => b.eval_1_grad(uv),
+            Texture::Constant(_) | Texture::Checkerboard(_) => Vec2::ZERO,
+        }
+    }
+
     /// The average colour over the unit uv square (per channel).
     pub fn mean(&self) -> Vec3 {
         match self {
