@@ -160,6 +160,11 @@ fn scene_test(name: &str, spp: u32) {
 }
 
 #[test]
+fn mesh_attributes() {
+    scene_test("mesh_attributes", 256);
+}
+
+#[test]
 fn floating_sphere() {
     scene_test("floating_sphere", 256);
 }

@@ -61,6 +61,19 @@ pub struct LoadedMesh {
     pub shared: Vec<Vec<MeshPart>>,
     /// Where each shared mesh is placed, in the file's node order.
     pub placements: Vec<SharedPlacement>,
+    /// Named per-vertex and per-triangle values (PLY's extra properties) of a file read as one
+    /// part; textures read them by name (Mitsuba's `mesh_attribute`).
+    pub attributes: Vec<MeshAttribute>,
+}
+
+/// Values given per vertex (interpolated over triangles) or per triangle.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshAttribute {
+    pub name: String,
+    pub per_face: bool,
+    pub channels: usize,
+    /// `channels` values per vertex or per triangle.
+    pub data: Vec<f32>,
 }
 
 /// One placement of a shared mesh.

@@ -133,7 +133,7 @@ impl SampleIntegrator for PathTracer {
                 break;
             }
             let frame = ShadingFrame::from_normal_tangent(si.ns, si.dpdu);
-            let at = SurfacePoint::new(&si, &frame, wo_world);
+            let at = SurfacePoint::new(&si, &frame, wo_world, scene.geometry.attributes_at(&h.hit));
             let wo = at.wo;
             let material = scene.geometry.material(&h.hit);
             let bsdf = Material::bsdf(&scene.shading_materials, material, &at);

@@ -206,6 +206,11 @@ fn from_description(
             flip_invalid: x.flip_invalid_normals,
             shadowing: x.use_shadowing_function,
         },
+        MaterialDesc::Blend(x) => Material::Blend {
+            weight: tex(&x.weight)?,
+            first: index(&x.materials[0]),
+            second: index(&x.materials[1]),
+        },
         MaterialDesc::BumpMap(x) => Material::BumpMap {
             height: tex(&x.bumpmap)?,
             scale: x.scale,

@@ -317,12 +317,29 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
         MaterialDesc::Mask(mask) => vec![("material", Some(&mask.material))],
         MaterialDesc::NormalMap(x) => vec![("material", Some(&x.material))],
         MaterialDesc::BumpMap(x) => vec![("material", Some(&x.material))],
+        MaterialDesc::Blend(x) => vec![
+            ("materials", Some(&x.materials[0])),
+            ("materials", Some(&x.materials[1])),
+        ],
         _ => vec![],
     } {
         let Some(r) = r else { continue };
         known_name(c, k, "material", r, d.materials.keys())?;
         if r == name {
             return c.fail(k, format!("material `{name}` cannot wrap itself"));
+        }
+    }
+    if let MaterialDesc::Blend(x) = m {
+        for r in &x.materials {
+            if d.materials
+                .get(r)
+                .is_some_and(|inner| !inner.references().is_empty())
+            {
+                return c.fail(
+                    "materials",
+                    format!("a blend mixes plain materials; `{r}` wraps others"),
+                );
+            }
         }
     }
     // Wrapping chains end: a material reaches no material twice.
@@ -364,6 +381,12 @@ fn texture(c: &mut Checker, t: &TextureDesc) -> Check {
             }
             if let Some(m) = to_uv {
                 c.finite("to_uv", m.as_flattened())?;
+            }
+            Ok(())
+        }
+        TextureDesc::Texture(TextureNode::MeshAttribute { name }) => {
+            if name.is_empty() {
+                return c.fail("name", "`name` must name a mesh attribute");
             }
             Ok(())
         }

@@ -60,9 +60,10 @@ fn normal_mapped(rgb: Vec3, inner: Material, shadowing: bool) -> Vec<Material> {
     ]
 }
 
-fn point(wo: Vec3) -> SurfacePoint {
+fn point(wo: Vec3) -> SurfacePoint<'static> {
     SurfacePoint {
         uv: Vec2::new(0.3, 0.6),
+        attributes: None,
         wo,
         dpdu: Vec3::X,
         dpdv: Vec3::Y,
@@ -316,5 +317,55 @@ fn two_sided_and_maps_compose() {
         let b = Material::bsdf(&front, 0, &point(wo));
         let wi = dir(0.2, 0.3, 0.9);
         assert_eq!(a.eval_pdf(wo, wi), b.eval_pdf(wo, wi));
+    }
+}
+
+/// A blend of a diffuse and a rough conductor: its samples follow the blended pdf, the blended
+/// value is the mix, and a white blend gains no energy (the mean sample weight is the mix of the
+/// parts' albedos).
+#[test]
+fn blend_sampling_follows_the_mixed_pdf() {
+    let test = Chi2Test::new(Config {
+        samples: 40_000,
+        cos_theta_bins: 24,
+        phi_bins: 48,
+        tests: 3 * wos().len(),
+        ..Default::default()
+    });
+    for w in [0.0, 0.3, 0.8] {
+        let materials = vec![
+            Material::Blend {
+                weight: Texture::Constant(Vec3::splat(w)),
+                first: 1,
+                second: 2,
+            },
+            diffuse(1.0),
+            white_conductor(),
+        ];
+        for wo in wos() {
+            let b = Material::bsdf(&materials, 0, &point(wo));
+            let o = test.run(
+                |u1, u2| b.sample(wo, u1, u2).map(|s| s.wi),
+                |wi| b.eval_pdf(wo, wi).1,
+            );
+            assert!(o.passed, "w = {w} wo = {wo}: {o}");
+            assert!((o.pdf_integral - o.success_rate).abs() < 0.01, "{o}");
+            let a = Material::bsdf(&materials[1..2], 0, &point(wo));
+            let c = Material::bsdf(&[white_conductor()], 0, &point(wo));
+            let wi = dir(0.3, -0.2, 0.9);
+            let (f, _) = b.eval_pdf(wo, wi);
+            let mix = a.eval_pdf(wo, wi).0 * (1.0 - w) + c.eval_pdf(wo, wi).0 * w;
+            assert!((f - mix).abs().max_element() < 1e-6);
+            let mut rng = Pcg32::new(1, 7);
+            let n = 50_000;
+            let mut sum = Vec3::ZERO;
+            for _ in 0..n {
+                if let Some(s) = b.sample(wo, rng.next_f32(), rng.next_vec2()) {
+                    sum += s.weight;
+                }
+            }
+            let albedo = sum / n as f32;
+            assert!(albedo.max_element() <= 1.01, "w = {w} wo = {wo}: {albedo}");
+        }
     }
 }

@@ -40,6 +40,8 @@ pub enum MaterialDesc {
     NormalMap(NormalMapDesc),
     /// `material` shaded around the normals of a height field.
     BumpMap(BumpMapDesc),
+    /// Two materials mixed by a weight.
+    Blend(BlendDesc),
 }
 
 /// Reads `[materials]`: a table without `type` is a Whitted material, as every material was before
@@ -81,6 +83,7 @@ impl MaterialDesc {
             MaterialDesc::Mask(m) => vec![m.material.as_str()],
             MaterialDesc::NormalMap(m) => vec![m.material.as_str()],
             MaterialDesc::BumpMap(m) => vec![m.material.as_str()],
+            MaterialDesc::Blend(m) => m.materials.iter().map(String::as_str).collect(),
             _ => vec![],
         }
     }
@@ -130,6 +133,7 @@ impl MaterialDesc {
             MaterialDesc::Mask(m) => vec![Some(("opacity", &m.opacity))],
             MaterialDesc::NormalMap(m) => vec![Some(("normalmap", &m.normalmap))],
             MaterialDesc::BumpMap(m) => vec![Some(("bumpmap", &m.bumpmap))],
+            MaterialDesc::Blend(m) => vec![Some(("weight", &m.weight))],
             MaterialDesc::Principled(p) => vec![
                 Some(("base_color", &p.base_color)),
                 Some(("roughness", &p.roughness)),
@@ -252,6 +256,9 @@ pub enum TextureNode {
         to_uv: Option<[[f32; 3]; 3]>,
     },
     /// Mitsuba's checkerboard: `color0` where `floor(2u) + floor(2v)` is even... see the docs.
+    /// A mesh's named per-vertex or per-face values (Mitsuba's `mesh_attribute`): PLY files'
+    /// extra properties, as `vertex_NAME` and `face_NAME`.
+    MeshAttribute { name: String },
     Checkerboard {
         #[serde(default = "default_checker0")]
         color0: Vec3f,
@@ -547,6 +554,17 @@ pub struct BumpMapDesc {
     pub flip_invalid_normals: bool,
     #[serde(default = "yes")]
     pub use_shadowing_function: bool,
+}
+
+/// Mitsuba's `blendbsdf`: `(1 - weight) materials[0] + weight materials[1]`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BlendDesc {
+    /// Texture in [0, 1] (clamped): the share of the second material.
+    #[serde(default = "half")]
+    pub weight: TextureDesc,
+    /// The two materials, plain BSDFs (not wrappers such as `twosided` or another blend).
+    pub materials: [String; 2],
 }
 
 fn half() -> TextureDesc {

@@ -7,8 +7,8 @@ use super::super::transform::to_rows;
 use super::Converter;
 use crate::error::Result;
 use crate::scene::description::{
-    BumpMapDesc, ConductorDesc, DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc, MaskDesc,
-    MaterialDesc, NormalMapDesc, PlasticDesc, PrincipledDesc, PrincipledThinDesc,
+    BlendDesc, BumpMapDesc, ConductorDesc, DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc,
+    MaskDesc, MaterialDesc, NormalMapDesc, PlasticDesc, PrincipledDesc, PrincipledThinDesc,
     RoughConductorDesc, RoughDielectricDesc, RoughPlasticDesc, TextureDesc, TextureFilter,
     TextureNode, TextureWrap, TwoSidedDesc,
 };
@@ -16,7 +16,7 @@ use std::rc::Rc;
 
 const BSDFS: &str = "diffuse, conductor, roughconductor, dielectric, thindielectric, \
                      roughdielectric, plastic, roughplastic, principled, principledthin, \
-                     twosided, mask, normalmap, bumpmap";
+                     twosided, mask, normalmap, bumpmap, blendbsdf";
 
 /// Mitsuba's BSDF for shapes without one: diffuse, reflectance 0.5.
 pub(super) fn mitsuba_default() -> MaterialDesc {
@@ -213,6 +213,17 @@ impl Converter<'_> {
                 MaterialDesc::Mask(MaskDesc {
                     opacity,
                     material: material.clone(),
+                })
+            }
+            "blendbsdf" => {
+                let weight = tex(self, b, "weight", 0.5)?;
+                let nested = self.nested_bsdfs(b)?;
+                let [first, second] = nested.as_slice() else {
+                    return Err(b.error("expected two nested BSDFs"));
+                };
+                MaterialDesc::Blend(BlendDesc {
+                    weight,
+                    materials: [first.clone(), second.clone()],
                 })
             }
             "normalmap" => {
@@ -451,9 +462,16 @@ pub(super) fn texture_node(c: &Converter, t: &Object) -> Result<TextureNode> {
                 to_uv,
             }
         }
+        "mesh_attribute" => {
+            let Some(name) = t.string("name")? else {
+                return Err(t.error("expected the attribute's \"name\""));
+            };
+            TextureNode::MeshAttribute { name: name.into() }
+        }
         p => {
             return Err(t.error(format!(
-                "unsupported texture plugin \"{p}\" (supported: bitmap, checkerboard)"
+                "unsupported texture plugin \"{p}\" (supported: bitmap, checkerboard, \
+                 mesh_attribute, rawconstant)"
             )))
         }
     };
