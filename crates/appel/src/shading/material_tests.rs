@@ -369,3 +369,88 @@ fn blend_sampling_follows_the_mixed_pdf() {
         }
     }
 }
+
+/// The TOML schema: the three wrappers read with Mitsuba's names and defaults, and blends of
+/// wrappers or maps of maps are refused.
+#[test]
+fn toml_wrappers_parse_and_validate() {
+    use crate::scene::description::MaterialDesc;
+    use crate::scene::description_from_str;
+    use crate::scene::parse::Syntax;
+    let base = r#"
+[camera]
+eye = [0, 0, 5]
+look_at = [0, 0, 0]
+[[shape]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1
+material = "top"
+[materials.d]
+type = "diffuse"
+[materials.c]
+type = "roughconductor"
+"#;
+    let parse = |extra: &str| {
+        description_from_str(
+            &format!("{base}{extra}"),
+            Syntax::Toml,
+            std::path::Path::new("t.toml"),
+        )
+    };
+    let d = parse(
+        r#"
+[materials.top]
+type = "normalmap"
+normalmap = [0.5, 0.5, 1.0]
+material = "b"
+[materials.b]
+type = "blendbsdf"
+weight = { type = "mesh_attribute", name = "face_weight" }
+materials = ["d", "c"]
+[materials.bump]
+type = "bumpmap"
+bumpmap = 0.3
+scale = 0.02
+material = "d"
+"#,
+    )
+    .unwrap();
+    let MaterialDesc::NormalMap(n) = &d.materials["top"] else {
+        panic!("{:?}", d.materials["top"]);
+    };
+    assert!(n.flip_invalid_normals && n.use_shadowing_function);
+    let MaterialDesc::BumpMap(b) = &d.materials["bump"] else {
+        panic!()
+    };
+    assert_eq!(b.scale, 0.02);
+    assert!(matches!(d.materials["b"], MaterialDesc::Blend(_)));
+    let e = parse(
+        r#"
+[materials.top]
+type = "blendbsdf"
+materials = ["d", "t2"]
+[materials.t2]
+type = "twosided"
+front = "d"
+"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("plain materials"), "{e}");
+    let e = parse(
+        r#"
+[materials.top]
+type = "normalmap"
+normalmap = [0.5, 0.5, 1.0]
+material = "b2"
+[materials.b2]
+type = "bumpmap"
+bumpmap = 1.0
+material = "d"
+"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("cannot wrap one another"), "{e}");
+}

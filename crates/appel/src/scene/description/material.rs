@@ -41,6 +41,7 @@ pub enum MaterialDesc {
     /// `material` shaded around the normals of a height field.
     BumpMap(BumpMapDesc),
     /// Two materials mixed by a weight.
+    #[serde(rename = "blendbsdf")]
     Blend(BlendDesc),
 }
 
