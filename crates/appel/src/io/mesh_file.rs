@@ -182,6 +182,9 @@ pub struct LoadedMesh {
     pub cameras: Vec<FileCamera>,
     /// Problems that do not stop the file from rendering (a texture that cannot be found).
     pub warnings: Vec<String>,
+    /// Named per-vertex and per-triangle values (PLY's extra properties) of a file read as one
+    /// part; textures read them by name (Mitsuba's `mesh_attribute`).
+    pub attributes: Vec<MeshAttribute>,
 }
 
 /// A camera placed by a mesh file: where it is and what it sees. `aspect` is the width over the
@@ -191,6 +194,16 @@ pub struct FileCamera {
     pub name: String,
     pub camera: CameraDesc,
     pub aspect: Option<f32>,
+}
+
+/// Values given per vertex (interpolated over triangles) or per triangle.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshAttribute {
+    pub name: String,
+    pub per_face: bool,
+    pub channels: usize,
+    /// `channels` values per vertex or per triangle.
+    pub data: Vec<f32>,
 }
 
 /// One placement of a shared mesh.

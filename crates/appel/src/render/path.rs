@@ -12,7 +12,7 @@ use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::scene::{Scene, NO_EMITTER, NO_INSTANCE};
 use crate::shading::bsdf::BsdfFlags;
 use crate::shading::frame::ShadingFrame;
-use crate::shading::material::Material;
+use crate::shading::material::{Material, SurfacePoint};
 
 /// Shadow rays stop this fraction short of the sampled light point, so that the light's own
 /// surface does not occlude it (relative to the segment: scale-free).
@@ -133,19 +133,10 @@ impl SampleIntegrator for PathTracer {
                 break;
             }
             let frame = ShadingFrame::from_normal_tangent(si.ns, si.dpdu);
-            let mut wo = frame.to_local(wo_world);
+            let at = SurfacePoint::new(&si, &frame, wo_world, scene.geometry.attributes_at(&h.hit));
+            let wo = at.wo;
             let material = scene.geometry.material(&h.hit);
-            let sb = Material::bsdf(&scene.shading_materials, material, si.uv, wo.z);
-            let bsdf = sb.bsdf;
-            if sb.flipped {
-                wo.z = -wo.z;
-            }
-            let to_world = |mut w: Vec3| {
-                if sb.flipped {
-                    w.z = -w.z;
-                }
-                frame.to_world(w)
-            };
+            let bsdf = Material::bsdf(&scene.shading_materials, material, &at);
             // Next-event estimation: one emitter, chosen by power.
             let u_light = sampler.get_1d();
             let u_dir = sampler.get_2d();
@@ -153,10 +144,7 @@ impl SampleIntegrator for PathTracer {
                 let (e, pmf) = emitters.picker.pick(u_light);
                 let em = &emitters.emitters[e];
                 if let Some(ls) = em.sample_li(si.p, u_dir) {
-                    let mut wi = frame.to_local(ls.wi);
-                    if sb.flipped {
-                        wi.z = -wi.z;
-                    }
+                    let wi = frame.to_local(ls.wi);
                     let (f, bsdf_pdf) = bsdf.eval_pdf(wo, wi);
                     if f != Vec3::ZERO && pmf > 0.0 {
                         let t_max = if ls.dist.is_finite() {
@@ -181,7 +169,7 @@ impl SampleIntegrator for PathTracer {
             let Some(bs) = bsdf.sample(wo, u_lobe, u_bsdf) else {
                 break;
             };
-            let wi_world = to_world(bs.wi);
+            let wi_world = frame.to_world(bs.wi);
             if bs.lobe.contains(BsdfFlags::DIFFUSE_TRANSMISSION)
                 || bs.lobe.contains(BsdfFlags::GLOSSY_TRANSMISSION)
                 || bs.lobe.contains(BsdfFlags::DELTA_TRANSMISSION)

@@ -92,6 +92,8 @@ pub(super) fn add_mesh_file(
         _ => None,
     };
     let mut first_prim = 0;
+    // Attributes are read from files of one part (PLY), indexed by its vertices and triangles.
+    let mut attributes = (loaded.parts.len() == 1).then_some(loaded.attributes);
     for part in loaded.parts {
         let id = part_material(part.material);
         let count = part.mesh.triangle_count() as u32;
@@ -99,6 +101,9 @@ pub(super) fn add_mesh_file(
         let shape = geometry.push_mesh(part.mesh, id);
         if let Some(e) = emits {
             extras.emission.push((shape, e));
+        }
+        if let Some(a) = attributes.take().filter(|a| !a.is_empty()) {
+            geometry.set_mesh_attributes(geometry.meshes.len() as u32 - 1, a);
         }
         let source = &mut geometry.shapes[shape as usize].source;
         source.first_prim = first_prim;

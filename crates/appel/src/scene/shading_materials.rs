@@ -206,6 +206,24 @@ fn from_description(
             opacity: tex(&x.opacity)?,
             inner: index(&x.material),
         },
+        MaterialDesc::NormalMap(x) => Material::NormalMap {
+            normals: tex(&x.normalmap)?,
+            inner: index(&x.material),
+            flip_invalid: x.flip_invalid_normals,
+            shadowing: x.use_shadowing_function,
+        },
+        MaterialDesc::Blend(x) => Material::Blend {
+            weight: tex(&x.weight)?,
+            first: index(&x.materials[0]),
+            second: index(&x.materials[1]),
+        },
+        MaterialDesc::BumpMap(x) => Material::BumpMap {
+            height: tex(&x.bumpmap)?,
+            scale: x.scale,
+            inner: index(&x.material),
+            flip_invalid: x.flip_invalid_normals,
+            shadowing: x.use_shadowing_function,
+        },
     })
 }
 
