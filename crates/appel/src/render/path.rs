@@ -4,9 +4,9 @@
 //! directly; 2: direct light; -1: unlimited) and of `rr_depth`. The `direct` integrator is the same
 //! estimator stopped after direct light.
 
-use super::progressive::SampleIntegrator;
+use super::integrator::{camera_ray, centre_aov, FilmSample, Integrator, SurfaceHit};
 use super::sampler::Sampler;
-use super::{SurfaceHit, TraceContext};
+use super::{PixelAov, TraceContext};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::scene::{Scene, NO_EMITTER, NO_INSTANCE};
@@ -69,8 +69,32 @@ fn mis_weight(a: f32, b: f32) -> f32 {
     }
 }
 
-impl SampleIntegrator for PathTracer {
-    fn li<S: Sampler>(
+impl Integrator for PathTracer {
+    fn sample<S: Sampler>(
+        &self,
+        scene: &Scene,
+        x: u32,
+        y: u32,
+        sampler: &mut S,
+        aov: Option<&mut PixelAov>,
+        ctx: &mut TraceContext,
+    ) -> FilmSample {
+        let (pos, ray) = camera_ray(scene, x, y, sampler);
+        ctx.rays.camera += 1;
+        // The AOVs describe the pixel centre (as opaque surfaces): one more camera ray per pixel.
+        if let Some(aov) = aov {
+            *aov = centre_aov(scene, x, y, ctx);
+        }
+        FilmSample {
+            pos,
+            radiance: self.li(scene, &ray, sampler, ctx),
+        }
+    }
+}
+
+impl PathTracer {
+    /// The radiance arriving along `camera_ray`, estimated from the sampler's numbers.
+    pub fn li<S: Sampler>(
         &self,
         scene: &Scene,
         camera_ray: &Ray,

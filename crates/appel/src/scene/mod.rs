@@ -261,7 +261,7 @@ impl Scene {
             rr_depth: d.render.rr_depth,
             hide_emitters: d.render.hide_emitters,
             spp: d.render.spp,
-            sampler: d.render.sampler,
+            sampler: d.render.integrator.sampler(d.render.sampler),
             seed: d.render.seed,
             filter: d.render.filter,
             accel: AccelKind::from_name(&d.render.accel).ok_or_else(|| {
@@ -446,22 +446,34 @@ impl Scene {
         self.geometry.intersect_unbounded(ray, t_max).or(bounded)
     }
 
-    /// [`Self::intersect`] of up to [`crate::accel::bvh::PACKET`] rays at once, `out[i]` for
-    /// `rays[i]`: the same hits, the 8-wide BVH tracing coherent packets together.
-    pub fn intersect_packet(
+    /// [`Self::intersect`] of each of `rays` (`out[i]` for `rays[i]`), for coherent rays such as the
+    /// camera rays of neighbouring pixels: where the structure has a packet path (the 8-wide BVH
+    /// over more than one leaf) they are traced in packets of [`crate::accel::bvh::PACKET`],
+    /// otherwise one by one. The hits are the same either way; only the cost differs (a scene
+    /// of one leaf, such as Whitted's, has nothing for a packet to share).
+    pub fn intersect_coherent(
         &self,
         rays: &[Ray],
         t_max: f32,
         out: &mut [Option<SceneHit>],
         stats: &mut TraversalStats,
     ) {
-        let mut hits = [None; crate::accel::bvh::PACKET];
-        self.accel
-            .intersect_packet(&self.geometry, rays, t_max, &mut hits, stats);
-        for ((ray, hit), o) in rays.iter().zip(hits).zip(out.iter_mut()) {
-            let bounded = hit.map(|h| self.geometry.scene_hit(h));
-            let t_max = bounded.map_or(t_max, |h| h.t);
-            *o = self.geometry.intersect_unbounded(ray, t_max).or(bounded);
+        if !self.accel.has_packets() {
+            for (ray, o) in rays.iter().zip(out.iter_mut()) {
+                *o = self.intersect(ray, t_max, stats);
+            }
+            return;
+        }
+        const PACKET: usize = crate::accel::bvh::PACKET;
+        for (rays, out) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
+            let mut hits = [None; PACKET];
+            self.accel
+                .intersect_packet(&self.geometry, rays, t_max, &mut hits, stats);
+            for ((ray, hit), o) in rays.iter().zip(hits).zip(out.iter_mut()) {
+                let bounded = hit.map(|h| self.geometry.scene_hit(h));
+                let t_max = bounded.map_or(t_max, |h| h.t);
+                *o = self.geometry.intersect_unbounded(ray, t_max).or(bounded);
+            }
         }
     }
 

@@ -118,7 +118,7 @@ fn cornell_box() {
         (IntegratorName::Path, 65, 64)
     );
     assert_eq!(r.filter, FilterDesc::Tent { radius: 1.0 });
-    assert_eq!(r.sampler, SamplerName::Independent);
+    assert_eq!(r.sampler, Some(SamplerName::Independent));
     // Eight rectangles and cubes, the light among them.
     assert_eq!(d.shapes.len(), 8);
     let light = d.shapes.iter().find(|s| s.emitter().is_some()).unwrap();
