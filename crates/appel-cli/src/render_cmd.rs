@@ -180,6 +180,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         progress: Some(&progress),
         cancel: Some(&cancel),
         time_limit: args.time_limit.map(std::time::Duration::from_secs_f64),
+        ..Default::default()
     };
     let rendered = pool.install(|| render(&scene, &options));
     if let Some(b) = bar {

@@ -8,9 +8,11 @@ pub mod optics;
 pub mod path;
 pub mod progressive;
 pub mod sampler;
+mod window;
 
 pub use film::{Film, PixelAov, MISS_ID};
 pub use integrator::{surface_hit, Integrator, Raycast, SurfaceHit, Whitted};
+pub use window::Window;
 
 use crate::accel::bvh::PACKET;
 use crate::accel::TraversalStats;
@@ -90,6 +92,9 @@ pub struct RenderOptions<'a> {
     pub cancel: Option<&'a AtomicBool>,
     /// Monte Carlo integrators: stop after the pass during which this much time has passed.
     pub time_limit: Option<Duration>,
+    /// Render only these pixels of the image (the film is the window's size): each is bit for
+    /// bit the full render's, so windows rendered apart reassemble into it.
+    pub window: Option<Window>,
 }
 
 /// Sub-pixel positions: sample 0 is the pixel centre (so `spp = 1` is exactly the convention's
@@ -183,14 +188,16 @@ pub fn render_with<I: Integrator>(
     options: &RenderOptions,
 ) -> Result<(Film, RenderStats)> {
     let start = Instant::now();
-    let (w, h) = (scene.camera.width, scene.camera.height);
+    // Pixels are independent here, so a window is tiled from its own corner.
+    let win = Window::resolve(options.window, scene.camera.width, scene.camera.height)?;
+    let (w, h) = (win.width(), win.height());
     let tiles: Vec<Tile> = (0..h.div_ceil(TILE_SIZE))
         .flat_map(|ty| {
             (0..w.div_ceil(TILE_SIZE)).map(move |tx| Tile {
-                x0: tx * TILE_SIZE,
-                y0: ty * TILE_SIZE,
-                x1: ((tx + 1) * TILE_SIZE).min(w),
-                y1: ((ty + 1) * TILE_SIZE).min(h),
+                x0: win.x0 + tx * TILE_SIZE,
+                y0: win.y0 + ty * TILE_SIZE,
+                x1: win.x0 + ((tx + 1) * TILE_SIZE).min(w),
+                y1: win.y0 + ((ty + 1) * TILE_SIZE).min(h),
             })
         })
         .collect();

@@ -9,7 +9,9 @@
 use super::film_block::FilmBlock;
 use super::filter::Filter;
 use super::sampler::Sampler;
-use super::{surface_hit, Film, PixelAov, RenderOptions, RenderStats, TraceContext, TILE_SIZE};
+use super::{
+    surface_hit, Film, PixelAov, RenderOptions, RenderStats, TraceContext, Window, TILE_SIZE,
+};
 use crate::error::{Error, Result};
 use crate::math::{Ray, Vec2, Vec3};
 use crate::scene::Scene;
@@ -66,9 +68,24 @@ pub fn render_progressive<I: SampleIntegrator, S: Sampler>(
         .collect();
     // Pixels a sample can reach beyond its own: the filter's radius less the half pixel.
     let margin = (p.filter.radius() - 0.5).max(0.0).ceil() as i32;
-    let mut film_sums = FilmBlock::new(0, 0, w, h);
+    // A window keeps the full image's tiles whose samples reach it, added in the same order, so
+    // its pixels' sums are the full render's bit for bit.
+    let win = Window::resolve(options.window, w, h)?;
+    let tiles: Vec<Tile> = tiles
+        .into_iter()
+        .filter(|t| {
+            win.overlaps(
+                t.x0 as i32 - margin,
+                t.y0 as i32 - margin,
+                t.x1 as i32 + margin,
+                t.y1 as i32 + margin,
+            )
+        })
+        .collect();
+    let (w, h) = (win.width(), win.height());
+    let mut film_sums = FilmBlock::new(win.x0 as i32, win.y0 as i32, w, h);
     let mut stats = RenderStats::default();
-    let aovs = centre_aovs(scene, options, &mut stats)?;
+    let aovs = centre_aovs(scene, win, options, &mut stats)?;
     let samples_done = AtomicU64::new(0);
     let pixel_count = w as u64 * h as u64;
     let spp = p.spp.max(1);
@@ -153,18 +170,20 @@ pub fn render_progressive<I: SampleIntegrator, S: Sampler>(
 /// samples are jittered, and the AOVs describe the pixel's centre as raycast's do.
 fn centre_aovs(
     scene: &Scene,
+    win: Window,
     options: &RenderOptions,
     stats: &mut RenderStats,
 ) -> Result<Vec<PixelAov>> {
-    let (w, h) = (scene.camera.width, scene.camera.height);
-    let rows: Vec<Option<(Vec<PixelAov>, TraceContext)>> = (0..h)
+    let (w, h) = (win.x0..win.x1, win.y0..win.y1);
+    let rows: Vec<Option<(Vec<PixelAov>, TraceContext)>> = h
         .into_par_iter()
         .map(|y| {
             if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                 return None;
             }
             let mut ctx = TraceContext::default();
-            let row = (0..w)
+            let row = w
+                .clone()
                 .map(|x| {
                     let ray = scene.camera.pixel_ray(x, y);
                     ctx.rays.camera += 1;
@@ -185,7 +204,7 @@ fn centre_aovs(
             Some((row, ctx))
         })
         .collect();
-    let mut out = Vec::with_capacity(w as usize * h as usize);
+    let mut out = Vec::with_capacity(win.width() as usize * win.height() as usize);
     for r in rows {
         let Some((row, ctx)) = r else {
             return Err(Error::Cancelled);
