@@ -76,6 +76,11 @@ impl<'a> InsideTester<'a> {
         &self.mesh
     }
 
+    /// The nearest point of the mesh to `p`.
+    pub fn closest(&self, p: glam::DVec3) -> Option<super::Closest> {
+        self.closest.closest(&self.mesh, p)
+    }
+
     /// Number of times the ray from `p` along `dir` crosses the surface. Each crossing is followed by a
     /// new ray from the hit point, offset past the surface by its error bound, so a ray through a
     /// shared edge counts the crossing once, not once per triangle.
