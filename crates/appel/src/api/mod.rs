@@ -6,6 +6,7 @@
 //! `ThreadPool::install`.
 
 mod handle;
+mod image;
 mod load;
 mod meshes;
 mod multi_hit;
@@ -14,6 +15,7 @@ mod render;
 mod surface;
 
 pub use handle::SceneHandle;
+pub use image::ImageArrays;
 pub use load::{Override, CAMERA_KEYS, RENDER_KEYS};
 pub use meshes::{MeshArrays, Placement};
 pub use multi_hit::HitList;
