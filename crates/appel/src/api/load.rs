@@ -94,7 +94,7 @@ impl SceneHandle {
             if !path.is_file() {
                 return Err(Error::io(
                     path,
-                    std::io::Error::from(std::io::ErrorKind::NotFound),
+                    std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
                 ));
             }
             let file = path.file_name().and_then(|f| f.to_str()).ok_or_else(|| {
@@ -115,7 +115,7 @@ impl SceneHandle {
         if !path.exists() {
             return Err(Error::io(
                 path,
-                std::io::Error::from(std::io::ErrorKind::NotFound),
+                std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
             ));
         }
         let loaded = if is_xml(path) {
