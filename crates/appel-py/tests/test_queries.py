@@ -146,6 +146,22 @@ def test_tnear_skips_the_near_hits():
             assert not s.occluded(o[r:r + 1], d[r:r + 1], tnear=mid, tfar=before)[0]
 
 
+def test_a_ray_through_an_edge_or_a_vertex_crosses_once():
+    v, f = icosahedron()
+    s = mesh_scene(v, f)
+    # Through vertex 0 and the opposite vertex 3 (the icosahedron is symmetric); then through the
+    # midpoints of two opposite edges.
+    mid = (v[0] + v[1]) / 2
+    o = np.array([v[0] * 3, mid * 3])
+    d = -o
+    lst = s.list_intersections(o, d)
+    assert list(lst["ray_splits"]) == [0, 2, 4]
+    assert list(s.count_intersections(o, d)) == [2, 2]
+    quad = appel.Scene.from_meshes([appel.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]],
+                                               [[0, 1, 2], [0, 2, 3]])])
+    assert quad.count_intersections([[0.5, 0.5, 1.0]], [[0, 0, -1.0]])[0] == 1
+
+
 def test_spheres_are_hit_twice_and_planes_once():
     s = appel.load_dict({
         "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0]},

@@ -148,6 +148,32 @@ impl<'a> Collector<'a> {
     }
 }
 
+/// The vertices of a triangle hit, if the surface hit is a mesh.
+fn triangle(g: &Geometry, h: &SceneHit) -> Option<[crate::math::Vec3; 3]> {
+    let g = if h.instance == MISS {
+        g
+    } else {
+        let i = &g.instances[h.instance as usize];
+        &g.prototypes[i.prototype as usize].geometry
+    };
+    match g.shapes[h.shape as usize].kind {
+        ShapeKind::Mesh(m) => Some(g.meshes[m as usize].vertices(h.prim as usize)),
+        _ => None,
+    }
+}
+
+/// Whether two hits of one surface are the same crossing: triangles sharing a vertex (by
+/// position), hit at the same `t` up to the rounding of the two tests (a few ulps).
+fn same_crossing(g: &Geometry, a: &SceneHit, b: &SceneHit) -> bool {
+    if (b.t - a.t) > 8.0 * f32::EPSILON * a.t.abs().max(b.t.abs()) {
+        return false;
+    }
+    match (triangle(g, a), triangle(g, b)) {
+        (Some(x), Some(y)) => x.iter().any(|p| y.contains(p)),
+        _ => false,
+    }
+}
+
 fn sorted(mut hits: Vec<Hit>) -> Vec<Hit> {
     hits.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.prim.cmp(&b.prim)));
     hits
@@ -225,9 +251,14 @@ impl SceneHandle {
             }
         }
         hits.sort_by(|a, b| a.t.total_cmp(&b.t));
-        // A structure may test a primitive once per cell it spans; one hit each.
-        hits.dedup_by(|a, b| {
-            a.t == b.t && a.shape == b.shape && a.prim == b.prim && a.instance == b.instance
+        // A structure may test a primitive once per cell it spans; one hit each. And a ray
+        // through an edge or a vertex hits every triangle around it (the watertight test has no
+        // tie-breaking rule): one crossing of the surface, so one hit.
+        hits.dedup_by(|later, kept| {
+            later.shape == kept.shape
+                && later.instance == kept.instance
+                && (later.prim == kept.prim && later.t == kept.t
+                    || same_crossing(g, kept, later))
         });
         hits
     }
