@@ -11,13 +11,15 @@ pub mod path;
 pub mod render_loop;
 pub mod sampler;
 mod whitted;
+mod window;
 
 pub use film::{Film, PixelAov, MISS_ID};
 pub use integrator::{surface_hit, FilmSample, Integrator, PixelRow, SurfaceHit};
 pub use whitted::{local_shading, Raycast, Whitted};
+pub use window::Window;
 
 use crate::accel::TraversalStats;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::scene::description::SamplerName;
 use crate::scene::{IntegratorKind, Scene};
 use std::sync::atomic::AtomicBool;
@@ -94,37 +96,6 @@ pub struct RenderOptions<'a> {
     /// Render only these pixels: the film is the window's size, and its pixels are those of the
     /// whole image's render, bit for bit.
     pub window: Option<Window>,
-}
-
-/// Pixels `x0..x1` by `y0..y1` of the image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Window {
-    pub x0: u32,
-    pub y0: u32,
-    pub x1: u32,
-    pub y1: u32,
-}
-
-impl Window {
-    pub fn full(width: u32, height: u32) -> Self {
-        Self {
-            x0: 0,
-            y0: 0,
-            x1: width,
-            y1: height,
-        }
-    }
-
-    /// An error unless the window is a non-empty part of a `width` by `height` image.
-    pub fn check(&self, width: u32, height: u32) -> Result<()> {
-        if self.x0 < self.x1 && self.y0 < self.y1 && self.x1 <= width && self.y1 <= height {
-            return Ok(());
-        }
-        Err(Error::Invalid(format!(
-            "window {}..{} x {}..{} is not a non-empty part of the {width}x{height} image",
-            self.x0, self.x1, self.y0, self.y1
-        )))
-    }
 }
 
 /// Renders the scene with its own integrator, sampler and filter on the current rayon thread
