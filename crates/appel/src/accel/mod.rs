@@ -346,6 +346,25 @@ impl Accel {
         }
     }
 
+    /// Refits the structure to `prims`, the primitives it was built over after they moved (same
+    /// count, same ids), and returns its SAH cost afterwards; `None` for structures that cannot be
+    /// refitted (only the BVH can: the others' cells and planes are fixed by the build) and must be
+    /// built again.
+    pub fn refit<P: Primitives>(&mut self, prims: &P) -> Option<f64> {
+        match self {
+            Accel::Bvh(b) => Some(b.refit(prims)),
+            _ => None,
+        }
+    }
+
+    /// The SAH cost of a refittable structure as it stands (see [`Bvh::current_sah_cost`]).
+    pub fn current_sah_cost(&self) -> Option<f64> {
+        match self {
+            Accel::Bvh(b) => Some(b.current_sah_cost()),
+            _ => None,
+        }
+    }
+
     pub fn stats(&self) -> AccelStats {
         match self {
             Accel::Brute(a) => a.stats(),

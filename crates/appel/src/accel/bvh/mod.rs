@@ -5,6 +5,7 @@ mod build;
 mod build_prim;
 mod node;
 mod pairs;
+mod refit;
 mod traverse;
 mod wide;
 

@@ -11,6 +11,7 @@ mod leaf;
 mod node;
 mod packet;
 mod quad_block;
+mod refit;
 #[cfg(target_arch = "x86_64")]
 mod simd;
 mod traverse;
