@@ -1,7 +1,7 @@
 //! `appel gen`: writes a large reproducible scene (issue 5) into a folder.
 
 use anyhow::{bail, Context, Result};
-use appel::gen::{city_scene, ecosystem, GenOptions};
+use appel::gen::{city_scene, cloth_scene, ecosystem, GenOptions};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -10,8 +10,9 @@ use std::time::Instant;
 #[derive(clap::Args)]
 pub struct GenArgs {
     /// Which scene: `ecosystem` (a terrain and 20 instanced plant species: 20M unique, over 10^9
-    /// instanced triangles) or `city` (one mesh of 10M triangles, no instancing).
-    #[arg(value_parser = ["ecosystem", "city"])]
+    /// instanced triangles), `city` (one mesh of 10M triangles, no instancing) or `cloth` (an
+    /// animation: a waving flag, one PLY per frame, and a flock of keyframed instanced birds).
+    #[arg(value_parser = ["ecosystem", "city", "cloth"])]
     scene: String,
     /// The folder to write into (created if missing): the scene file, binary PLY meshes and, for the
     /// ecosystem, placement lists.
@@ -64,6 +65,7 @@ pub fn run(args: GenArgs) -> Result<()> {
     };
     let report = match args.scene.as_str() {
         "ecosystem" => ecosystem(&args.output, &options, &step),
+        "cloth" => cloth_scene(&args.output, &options, &step),
         _ => city_scene(&args.output, &options, &step),
     };
     let report = match report {

@@ -7,6 +7,7 @@ mod gen_cmd;
 mod inside_cmd;
 mod memory;
 mod render_cmd;
+mod render_frames;
 mod scene_args;
 mod scenes_cmd;
 

@@ -13,16 +13,21 @@ use std::sync::Arc;
 pub struct RenderArgs {
     /// A scene file (.toml or .json), a mesh file to view (.ply, .obj, .gltf, .glb, .ply.gz, .obj.gz),
     /// or the name of a built-in scene (`appel scenes`). Default: whitted.
-    scene: Option<String>,
-    /// Output image: .png (8-bit sRGB) or .exr (linear float RGB, plus AOVs).
+    pub scene: Option<String>,
+    /// Output image: .png (8-bit sRGB) or .exr (linear float RGB, plus AOVs). With --frames, a
+    /// name with `{frame}` or `{frame:04}` in it, replaced by each frame's number.
     #[arg(short, long, default_value = "render.png")]
-    output: PathBuf,
+    pub output: PathBuf,
+    /// Render frames A to B-1 (`A..B`) or frame K (`K`) of an animated scene (`[animation]`),
+    /// refitting the structures from frame to frame.
+    #[arg(long, value_name = "A..B")]
+    frames: Option<String>,
     /// AOV channels to add to an EXR: a comma-separated list of depth, normal, shapeid, primid, instanceid.
     #[arg(long, value_name = "LIST")]
     aov: Option<String>,
     /// Worker threads (default: all cores). The image is identical for any count.
     #[arg(long)]
-    threads: Option<usize>,
+    pub threads: Option<usize>,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
@@ -41,18 +46,18 @@ pub struct RenderArgs {
     /// Stop after the pass of samples during which this many seconds have passed (the image then
     /// has fewer samples per pixel than --spp).
     #[arg(long, value_name = "SECONDS")]
-    time_limit: Option<f64>,
+    pub time_limit: Option<f64>,
     /// Render only pixels X0..X1 by Y0..Y1 (end excluded): the image is the window's size and
     /// its pixels are those of the whole render.
     #[arg(long, value_name = "X0,Y0,X1,Y1")]
-    window: Option<String>,
+    pub window: Option<String>,
     /// Override render.max_depth (path and direct: -1 is unlimited).
     #[arg(long, allow_hyphen_values = true)]
     max_depth: Option<i32>,
     #[command(flatten)]
     view: ViewArgs,
     #[command(flatten)]
-    params: ParamArgs,
+    pub params: ParamArgs,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
@@ -79,6 +84,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     if aovs.any() && ImageFormat::from_path(&args.output)? != ImageFormat::Exr {
         bail!("--aov needs an .exr output: AOVs are written as EXR channels");
+    }
+    if let Some(frames) = &args.frames {
+        return crate::render_frames::run(&args, frames, aovs);
     }
     let xml = args.params.xml_options()?;
     let pool = rayon::ThreadPoolBuilder::new()
@@ -263,7 +271,7 @@ const RENDERING: u8 = 1;
 const WRITING: u8 = 2;
 
 /// Applies the flags that override the scene's `[render]` settings and its camera.
-fn apply_settings(d: &mut Description, a: &RenderArgs) -> Result<()> {
+pub fn apply_settings(d: &mut Description, a: &RenderArgs) -> Result<()> {
     if let Some(x) = &a.accel {
         d.render.accel = x.clone();
     }

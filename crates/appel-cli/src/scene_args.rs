@@ -133,6 +133,45 @@ pub fn load_scene_with(
     Ok((scene, parse_time))
 }
 
+/// The description of a scene file or built-in scene (not a mesh file) after `adjust`, checked,
+/// and the folder its files are relative to: for animations, which build one scene per frame.
+pub fn load_description_only(
+    name: Option<&str>,
+    xml: &XmlOptions,
+    adjust: impl Fn(&mut Description) -> Result<()>,
+) -> Result<(Description, PathBuf)> {
+    let (mut description, base_dir, is_model) = read_scene_or_model(name, xml)?;
+    if is_model {
+        bail!(
+            "`{}` is a mesh file; an animation is a scene file with `[animation]`",
+            name.unwrap_or("whitted")
+        );
+    }
+    adjust(&mut description)?;
+    check(&description)?;
+    crate::memory::check_memory(&description, &base_dir)?;
+    Ok((description, base_dir))
+}
+
+/// `A..B` (frames A to B-1) or `K` (frame K alone).
+pub fn parse_frames(s: &str) -> Result<std::ops::Range<u32>> {
+    let bad = || anyhow!("--frames: expected A..B (frames A to B-1) or one frame K, got `{s}`");
+    let range = match s.split_once("..") {
+        Some((a, b)) => {
+            a.trim().parse::<u32>().map_err(|_| bad())?
+                ..b.trim().parse::<u32>().map_err(|_| bad())?
+        }
+        None => {
+            let k = s.trim().parse::<u32>().map_err(|_| bad())?;
+            k..k + 1
+        }
+    };
+    if range.is_empty() {
+        bail!("--frames: `{s}` holds no frame (the end is excluded)");
+    }
+    Ok(range)
+}
+
 /// The library's view of a mesh file (see `appel::scene::view_model`), then the command line's
 /// overrides.
 fn model_view(

@@ -8,12 +8,14 @@
 
 mod builder;
 pub mod city;
+pub mod cloth;
 mod ecosystem;
 mod noise;
 pub mod plants;
 pub mod terrain;
 
 pub use builder::MeshBuilder;
+pub use cloth::cloth_scene;
 pub use ecosystem::{ecosystem, species_list, Species};
 
 use crate::error::{Error, Result};

@@ -86,6 +86,14 @@ fn placement_count(path: &Path) -> Result<u64> {
 /// Estimates the peak memory of loading, building and rendering `d` (files relative to
 /// `base_dir`). Errors only when a file cannot be read.
 pub fn estimate_memory(d: &Description, base_dir: &Path) -> Result<MemoryEstimate> {
+    // An animation holds one frame at a time: its first stands for all.
+    let first_frame;
+    let d = if super::animation::is_animated(d) {
+        first_frame = super::animation::at_frame(d, 0);
+        &first_frame
+    } else {
+        d
+    };
     let mut e = MemoryEstimate {
         pixels: d.camera.width as u64 * d.camera.height as u64,
         ..Default::default()

@@ -1,6 +1,7 @@
 //! From a scene description to a scene ready to render: geometry, acceleration structure, materials,
 //! lights and camera.
 
+pub mod animation;
 mod basic_meshes;
 pub mod builtin;
 mod camera;
@@ -17,6 +18,7 @@ mod memory;
 mod mesh_shape;
 pub mod parse;
 mod progress;
+mod sequence;
 mod shading_materials;
 mod textures;
 pub mod validate;
@@ -35,6 +37,7 @@ pub use material::{Checker, Material};
 pub use memory::{estimate_memory, MemoryEstimate};
 pub use mesh_shape::FileExtras;
 pub use progress::{LoadStep, SceneOptions};
+pub use sequence::{FrameUpdate, Sequence, REBUILD_FACTOR};
 
 use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
 use crate::error::{Error, Location, Result};
@@ -242,6 +245,14 @@ impl Scene {
 
     /// [`Self::new`], reporting each file read and structure built, and stopping when cancelled.
     pub fn new_with(d: &Description, base_dir: &Path, options: SceneOptions) -> Result<Scene> {
+        // An animated description renders as its first frame (`Sequence` for the others).
+        let first_frame;
+        let d = if animation::is_animated(d) {
+            first_frame = animation::at_frame(d, 0);
+            &first_frame
+        } else {
+            d
+        };
         let load_start = Instant::now();
         let used_meshes = d
             .meshes
@@ -271,6 +282,15 @@ impl Scene {
                 ))
             })?,
             accel_options: accel_options(&d.render),
+        };
+        // What the declared meshes' structures are built as.
+        let build_settings = RenderSettings {
+            accel: if options.skip_structures {
+                AccelKind::Brute
+            } else {
+                settings.accel
+            },
+            ..settings
         };
         let triangle_test = match d.render.triangle.as_str() {
             "moller" => TriangleTest::Moller,
@@ -358,7 +378,7 @@ impl Scene {
                         &base_dir.join(&m.file),
                         m.transform.as_ref(),
                         m.material.is_some().then_some(material),
-                        settings.accel,
+                        build_settings.accel,
                         &settings.accel_options,
                     )?;
                     steps.step(&format!("read {}", m.file))?;
@@ -387,7 +407,7 @@ impl Scene {
         let prototype_build = instance_entries::add_instances(
             d,
             base_dir,
-            &settings,
+            &build_settings,
             &mut geometry,
             &mut materials,
             &mut from_files,
@@ -405,7 +425,7 @@ impl Scene {
             geometry.prims.len()
         ));
         let build_start = Instant::now();
-        let top_level = if skip_top_level {
+        let top_level = if skip_top_level || options.skip_structures {
             AccelKind::Brute
         } else {
             settings.accel

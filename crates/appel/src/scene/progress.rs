@@ -25,6 +25,9 @@ pub struct SceneOptions<'a> {
     /// for tools that build their own over the geometry, such as `appel bench`. The declared
     /// meshes' structures are still built, of the scene's kind.
     pub skip_top_level: bool,
+    /// Leave every structure unbuilt (brute force), the declared meshes' too: for an animation,
+    /// which refits the previous frame's structures to the new geometry instead.
+    pub skip_structures: bool,
 }
 
 /// Counts steps and forwards them.

@@ -2,8 +2,8 @@
 //! reported with the path of the offending value, which the loader turns into a line and column.
 
 use super::description::{
-    Description, InstanceDesc, LightDesc, MaterialDesc, ShapeDesc, TextureDesc, TextureNode,
-    TransformDesc, Vec3f,
+    Description, InstanceDesc, KeyframeDesc, LightDesc, MaterialDesc, ShapeDesc, TextureDesc,
+    TextureNode, TransformDesc, Vec3f,
 };
 use super::parse::PathSeg;
 use crate::accel::AccelKind;
@@ -125,12 +125,27 @@ pub fn validate(d: &Description) -> Result<(), Invalid> {
             c.at(PathSeg::Index(i), |c| shape(c, d, s))
         })?;
     }
+    if let Some(a) = &d.animation {
+        c.at(key("animation"), |c| {
+            if !(1..=MAX_FRAMES).contains(&a.frames) {
+                return c.fail(
+                    "frames",
+                    format!(
+                        "`frames` must be between 1 and {MAX_FRAMES}, got {}",
+                        a.frames
+                    ),
+                );
+            }
+            c.positive("fps", a.fps)
+        })?;
+    }
     for (name, m) in &d.meshes {
         c.at(key("meshes"), |c| {
             c.at(key(name), |c| {
                 if m.file.is_empty() {
                     return c.fail("file", "`file` must name a mesh file");
                 }
+                file_pattern(c, d, &m.file)?;
                 material_name(c, d, m.material.as_deref())
             })
         })?;
@@ -572,6 +587,13 @@ fn material_name(c: &Checker, d: &Description, m: Option<&str>) -> Check {
 
 fn instance(c: &mut Checker, d: &Description, i: &InstanceDesc) -> Check {
     known_name(c, "mesh", "mesh", &i.mesh, d.meshes.keys())?;
+    if !i.keyframes.is_empty() && i.placements.is_some() {
+        return c.fail(
+            "keyframes",
+            "an instance takes `keyframes` or `placements`, not both",
+        );
+    }
+    keyframes(c, &i.keyframes, &i.transform)?;
     if let Some(t) = &i.transform {
         if i.placements.is_some() {
             return c.fail(
@@ -635,10 +657,13 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
             if m.file.is_empty() {
                 return c.fail("file", "`file` must name a mesh file");
             }
+            file_pattern(c, d, &m.file)?;
             placed(c, &m.transform)?;
+            keyframes(c, &m.keyframes, &m.transform)?;
         }
         ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
-            placed(c, &b.transform)?
+            placed(c, &b.transform)?;
+            keyframes(c, &b.keyframes, &b.transform)?;
         }
     }
     if let Some(e) = s.emitter() {
@@ -647,6 +672,52 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         })?;
     }
     Ok(())
+}
+
+/// The most frames `[animation]` may have.
+pub const MAX_FRAMES: u32 = 1_000_000;
+
+/// Keys in increasing time, each a valid transform, instead of (not beside) `transform`.
+fn keyframes(c: &mut Checker, keys: &[KeyframeDesc], fixed: &Option<TransformDesc>) -> Check {
+    if keys.is_empty() {
+        return Ok(());
+    }
+    if fixed.is_some() {
+        return c.fail("keyframes", "give `transform` or `keyframes`, not both");
+    }
+    c.at(key("keyframes"), |c| {
+        for (i, k) in keys.iter().enumerate() {
+            c.at(PathSeg::Index(i), |c| {
+                c.finite("time", &[k.time])?;
+                if i > 0 && k.time <= keys[i - 1].time {
+                    return c.fail(
+                        "time",
+                        format!(
+                            "keyframe times must increase, but {} follows {}",
+                            k.time,
+                            keys[i - 1].time
+                        ),
+                    );
+                }
+                c.at(key("transform"), |c| transform(c, &k.transform))
+            })?;
+        }
+        Ok(())
+    })
+}
+
+/// A file name with `{frame...}` fields needs `[animation]`, and well-formed fields.
+fn file_pattern(c: &mut Checker, d: &Description, file: &str) -> Check {
+    if !super::animation::is_pattern(file) {
+        return Ok(());
+    }
+    if d.animation.is_none() {
+        return c.fail(
+            "file",
+            "a file name with `{frame}` needs an `[animation]` table saying how many frames",
+        );
+    }
+    super::animation::check_pattern(file).or_else(|m| c.fail("file", m))
 }
 
 fn transform(c: &mut Checker, t: &TransformDesc) -> Check {
@@ -696,6 +767,13 @@ fn transform(c: &mut Checker, t: &TransformDesc) -> Check {
 
 /// Checks that every mesh and placement file the description names exists, relative to `base_dir`.
 pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid> {
+    // A file name per frame: every frame's file must be there.
+    if super::animation::is_animated(d) {
+        for frame in 0..super::animation::frame_count(d) {
+            files(&super::animation::at_frame(d, frame), base_dir)?;
+        }
+        return Ok(());
+    }
     let exists = |f: &str, what: &str, path: Vec<PathSeg>| {
         let p = base_dir.join(f);
         if p.is_file() || (what == "mesh file" && crate::io::mesh_source_exists(&p)) {

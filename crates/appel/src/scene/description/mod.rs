@@ -35,6 +35,34 @@ pub struct Description {
     pub meshes: BTreeMap<String, MeshDesc>,
     #[serde(default, rename = "instance", skip_serializing_if = "Vec::is_empty")]
     pub instances: Vec<InstanceDesc>,
+    /// `[animation]`: the scene is a sequence of frames (see `scene::animation`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation: Option<AnimationDesc>,
+}
+
+/// `[animation]`: frame `k` shows the scene at time `k / fps` seconds.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct AnimationDesc {
+    /// Frames in the sequence, numbered from 0.
+    pub frames: u32,
+    /// Frames per second: the time keyframes are placed in.
+    #[serde(default = "default_fps")]
+    pub fps: f32,
+}
+
+fn default_fps() -> f32 {
+    24.0
+}
+
+/// One key of a keyframed transform: where the object is at `time` seconds. Between two keys the
+/// transforms are decomposed into translation, rotation and scale and interpolated (linearly,
+/// and spherically for the rotation); before the first key and after the last the object rests.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct KeyframeDesc {
+    pub time: f32,
+    pub transform: TransformDesc,
 }
 
 /// `[meshes.NAME]`: a mesh file loaded once, with its own acceleration structure.
@@ -60,6 +88,9 @@ pub struct InstanceDesc {
     /// A placement list (see `io::placements`), relative to the scene file's folder.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub placements: Option<String>,
+    /// A moving placement, instead of `transform`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub keyframes: Vec<KeyframeDesc>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]

@@ -91,6 +91,9 @@ pub struct MeshShapeDesc {
     pub file: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform: Option<TransformDesc>,
+    /// A moving placement, instead of `transform`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub keyframes: Vec<super::KeyframeDesc>,
     /// Ignore the file's vertex normals and shade with the triangles' own.
     #[serde(default, skip_serializing_if = "is_false")]
     pub face_normals: bool,
@@ -110,6 +113,9 @@ pub struct MeshShapeDesc {
 pub struct BasicShapeDesc {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform: Option<TransformDesc>,
+    /// A moving placement, instead of `transform`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub keyframes: Vec<super::KeyframeDesc>,
     /// Turn the normals around (which side is the front for one-sided materials and emitters).
     #[serde(default, skip_serializing_if = "is_false")]
     pub flip_normals: bool,

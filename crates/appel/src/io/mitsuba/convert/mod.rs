@@ -118,6 +118,7 @@ impl Converter<'_> {
             lights: std::mem::take(&mut self.lights),
             meshes: std::mem::take(&mut self.meshes),
             instances: std::mem::take(&mut self.instances),
+            animation: None,
         })
     }
 

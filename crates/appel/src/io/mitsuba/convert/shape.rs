@@ -64,6 +64,7 @@ impl Converter<'_> {
                 flip_normals: flip_normals(s)?,
                 material,
                 emitter,
+                keyframes: Vec::new(),
             }),
             "sphere" => {
                 let center = DVec3::from(s.vector("center")?.unwrap_or([0.0; 3]));
@@ -84,6 +85,7 @@ impl Converter<'_> {
                     flip_normals: flip_normals(s)?,
                     material,
                     emitter,
+                    keyframes: Vec::new(),
                 };
                 match s.plugin.as_str() {
                     "rectangle" => ShapeDesc::Rectangle(b),
@@ -207,6 +209,7 @@ impl Converter<'_> {
                     ..TransformDesc::default()
                 }),
                 placements: None,
+                keyframes: Vec::new(),
             });
         }
         for s in &group.others {
