@@ -9,6 +9,7 @@ use appel::io::mitsuba::XmlOptions;
 use appel::scene::{Description, SceneOptions};
 use embree_peer::BuildQuality;
 
+mod animation;
 mod frames;
 
 #[derive(clap::Args)]
@@ -47,7 +48,9 @@ pub struct BenchArgs {
     #[arg(long, value_name = "SCENE", conflicts_with = "target")]
     scene: Option<String>,
     /// Renders in --scene mode (the median time is reported) [default: 100; path and direct: 3].
-    #[arg(long, requires = "scene")]
+    /// Without --scene, with an animated scene file as the target: frames 0 to N-1 of the
+    /// animation, with refit and rebuild times, Mrays/s and SAH drift per frame.
+    #[arg(long)]
     frames: Option<usize>,
     /// Recursion depth in --scene mode [default: 5; path and direct: the scene's, -1 unlimited].
     #[arg(long, requires = "scene", allow_hyphen_values = true)]
@@ -85,6 +88,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     if let Some(scene) = &args.scene {
         return frames::run(scene, &args);
+    }
+    if let Some(n) = args.frames {
+        return animation::run(&args.target, n, &args);
     }
     // Camera rays at 640x480 unless --size says otherwise.
     let (w, h) = match &args.view.size {

@@ -1,6 +1,8 @@
 use crate::scene_args::{load_scene_with, ParamArgs, ViewArgs};
 use anyhow::{anyhow, bail, Context, Result};
-use appel::output::image::{write_image, Aovs, ImageFormat};
+use appel::output::heatmap::write_heatmap;
+use appel::output::image::{write_image_with, Aovs, ImageFormat};
+use appel::render::cost::CostImage;
 use appel::render::{render, RenderOptions, Window};
 use appel::scene::{Description, LoadStep, SceneOptions};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -22,7 +24,13 @@ pub struct RenderArgs {
     /// refitting the structures from frame to frame.
     #[arg(long, value_name = "A..B")]
     frames: Option<String>,
-    /// AOV channels to add to an EXR: a comma-separated list of depth, normal, shapeid, primid, instanceid.
+    /// Instead of rendering, write a false-colour PNG of the nodes visited or the primitive tests
+    /// of each pixel's camera ray (through its centre), with a legend and its scale.
+    #[arg(long, value_parser = ["nodes", "tests"])]
+    heatmap: Option<String>,
+    /// AOV channels to add to an EXR: a comma-separated list of depth, normal, shapeid, primid,
+    /// instanceid, variance, cost (`cost.nodes` and `cost.tests`: the nodes visited and primitive
+    /// tests of each pixel's camera ray).
     #[arg(long, value_name = "LIST")]
     aov: Option<String>,
     /// Worker threads (default: all cores). The image is identical for any count.
@@ -84,6 +92,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     if aovs.any() && ImageFormat::from_path(&args.output)? != ImageFormat::Exr {
         bail!("--aov needs an .exr output: AOVs are written as EXR channels");
+    }
+    if args.heatmap.is_some() && ImageFormat::from_path(&args.output)? != ImageFormat::Png {
+        bail!("--heatmap writes a .png picture");
+    }
+    if args.heatmap.is_some() && (aovs.any() || args.frames.is_some()) {
+        bail!("--heatmap writes one picture of cost: it takes neither --aov nor --frames");
     }
     if let Some(frames) = &args.frames {
         return crate::render_frames::run(&args, frames, aovs);
@@ -173,6 +187,26 @@ pub fn run(args: RenderArgs) -> Result<()> {
         );
     }
 
+    if let Some(what) = &args.heatmap {
+        let cost = pool.install(|| CostImage::of(&scene));
+        let values = if what == "nodes" {
+            &cost.nodes
+        } else {
+            &cost.tests
+        };
+        let label = format!("{what} per camera ray");
+        write_heatmap(&args.output, cost.width, cost.height, values, &label)?;
+        let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len().max(1) as f64;
+        let max = values.iter().copied().fold(0.0f32, f32::max);
+        println!(
+            "{}: {}x{} heatmap of {what} per camera ray under {}: mean {mean:.2}, max {max:.0}",
+            args.output.display(),
+            cost.width,
+            cost.height,
+            scene.settings.accel.name()
+        );
+        return Ok(());
+    }
     if let Some(w) = window {
         w.check(scene.camera.width, scene.camera.height)
             .map_err(|e| anyhow!("--window: {e}"))?;
@@ -209,7 +243,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     let (film, stats) = rendered?;
     phase.store(WRITING, Ordering::SeqCst);
-    write_image(&args.output, &film, aovs)?;
+    let cost = aovs.cost.then(|| pool.install(|| CostImage::of(&scene)));
+    if cost.is_some() && window.is_some() {
+        bail!("--aov cost is of the whole image: it does not take --window");
+    }
+    write_image_with(&args.output, &film, aovs, cost.as_ref())?;
     let peak = crate::memory::peak_rss_bytes()
         .map(|b| format!(" | peak RSS {:.0} MB", b as f64 / 1e6))
         .unwrap_or_default();

@@ -5,7 +5,8 @@
 use crate::render_cmd::RenderArgs;
 use crate::scene_args::{load_description_only, parse_frames};
 use anyhow::{anyhow, bail, Context, Result};
-use appel::output::image::{write_image, Aovs};
+use appel::output::image::{write_image_with, Aovs};
+use appel::render::cost::CostImage;
 use appel::render::{render, RenderOptions};
 use appel::scene::animation::{check_pattern, frame_count, frame_file, is_pattern};
 use appel::scene::Sequence;
@@ -53,7 +54,8 @@ pub fn run(args: &RenderArgs, frames: &str, aovs: Aovs) -> Result<()> {
         let scene = &sequence.scene;
         let (film, stats) = pool.install(|| render(scene, &RenderOptions::default()))?;
         let path = std::path::PathBuf::from(frame_file(&output, frame));
-        write_image(&path, &film, aovs)?;
+        let cost = aovs.cost.then(|| pool.install(|| CostImage::of(scene)));
+        write_image_with(&path, &film, aovs, cost.as_ref())?;
         let structures = match &update {
             None => format!(
                 "load {:.3}s build {:.3}s",

@@ -78,6 +78,7 @@ impl ImageArrays<'_> {
             prim_id: self.prim_id.is_some(),
             instance_id: self.instance_id.is_some(),
             variance: self.variance.is_some(),
+            cost: false,
         };
         let png = crate::output::image::ImageFormat::from_path(path)?
             == crate::output::image::ImageFormat::Png;

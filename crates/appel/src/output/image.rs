@@ -2,6 +2,7 @@
 
 use super::write_atomically;
 use crate::error::{Error, Result};
+use crate::render::cost::CostImage;
 use crate::render::Film;
 use exr::prelude::*;
 use std::path::Path;
@@ -16,6 +17,9 @@ pub struct Aovs {
     pub instance_id: bool,
     /// The variance of each pixel's estimate (`variance.R/G/B`), from the spread of its samples.
     pub variance: bool,
+    /// The nodes visited and primitive tests of each pixel's camera ray (`cost.nodes`,
+    /// `cost.tests`; see `render::cost`).
+    pub cost: bool,
 }
 
 impl Aovs {
@@ -26,6 +30,7 @@ impl Aovs {
         "primid",
         "instanceid",
         "variance",
+        "cost",
     ];
 
     /// Parses a comma-separated list such as `depth,normal,primid`. `primid` brings `shapeid` with it,
@@ -43,6 +48,7 @@ impl Aovs {
                 }
                 "instanceid" => a.instance_id = true,
                 "variance" => a.variance = true,
+                "cost" => a.cost = true,
                 other => {
                     return Err(format!(
                         "unknown AOV `{other}`, expected a comma-separated list of: {}",
@@ -61,6 +67,7 @@ impl Aovs {
             || self.prim_id
             || self.instance_id
             || self.variance
+            || self.cost
     }
 }
 
@@ -91,13 +98,23 @@ impl ImageFormat {
 
 /// Writes the film by the format of `path`'s extension. AOVs need EXR.
 pub fn write_image(path: &Path, film: &Film, aovs: Aovs) -> Result<()> {
+    write_image_with(path, film, aovs, None)
+}
+
+/// [`write_image`], with the pixels' costs for the `cost` AOV.
+pub fn write_image_with(
+    path: &Path,
+    film: &Film,
+    aovs: Aovs,
+    cost: Option<&CostImage>,
+) -> Result<()> {
     match ImageFormat::from_path(path)? {
         ImageFormat::Png if aovs.any() => Err(Error::Invalid(format!(
             "{}: AOVs are written as EXR channels; use a .exr output",
             path.display()
         ))),
         ImageFormat::Png => write_png(path, film),
-        ImageFormat::Exr => write_exr(path, film, aovs),
+        ImageFormat::Exr => write_exr_with(path, film, aovs, cost),
     }
 }
 
@@ -140,6 +157,16 @@ pub fn write_png(path: &Path, film: &Film) -> Result<()> {
 }
 
 pub fn write_exr(path: &Path, film: &Film, aovs: Aovs) -> Result<()> {
+    write_exr_with(path, film, aovs, None)
+}
+
+/// [`write_exr`], with the pixels' costs for the `cost` AOV.
+pub fn write_exr_with(
+    path: &Path,
+    film: &Film,
+    aovs: Aovs,
+    cost: Option<&CostImage>,
+) -> Result<()> {
     let f32s = |f: &dyn Fn(usize) -> f32| -> FlatSamples {
         FlatSamples::F32((0..film.rgb.len()).map(f).collect())
     };
@@ -186,6 +213,21 @@ pub fn write_exr(path: &Path, film: &Film, aovs: Aovs) -> Result<()> {
         channels.push(AnyChannel::new("variance.R", f32s(&|i| film.variance[i].x)));
         channels.push(AnyChannel::new("variance.G", f32s(&|i| film.variance[i].y)));
         channels.push(AnyChannel::new("variance.B", f32s(&|i| film.variance[i].z)));
+    }
+    if aovs.cost {
+        let cost = cost
+            .filter(|c| c.nodes.len() == film.rgb.len())
+            .ok_or_else(|| {
+                Error::Invalid("the cost AOV needs the costs of the film's pixels".into())
+            })?;
+        channels.push(AnyChannel::new(
+            "cost.nodes",
+            FlatSamples::F32(cost.nodes.clone()),
+        ));
+        channels.push(AnyChannel::new(
+            "cost.tests",
+            FlatSamples::F32(cost.tests.clone()),
+        ));
     }
     let layer = Layer::new(
         (film.width as usize, film.height as usize),

@@ -2,6 +2,7 @@
 //! (whole or not at all).
 
 mod atomic;
+pub mod heatmap;
 pub mod image;
 mod ply_write;
 

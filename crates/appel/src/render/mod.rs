@@ -2,6 +2,7 @@
 //! parallel; the integrator traces each sample's camera ray itself, from the sampler's film
 //! position; the film sums the samples through the reconstruction filter.
 
+pub mod cost;
 mod film;
 pub mod film_block;
 pub mod filter;
