@@ -76,6 +76,13 @@ pub struct BenchArgs {
     /// pairs = false`), to compare.
     #[arg(long)]
     bvh_no_pairs: bool,
+    /// Instead of timing, write for each structure a false-colour PNG of the nodes visited or
+    /// the primitive tests of each camera ray, to --output.
+    #[arg(long, value_parser = ["nodes", "tests"], requires = "output")]
+    heatmap: Option<String>,
+    /// The --heatmap picture; `{accel}` in the name is replaced by each structure's name.
+    #[arg(short, long)]
+    output: Option<std::path::PathBuf>,
 }
 
 /// More threads than this is a typo, not a machine.
@@ -108,6 +115,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let mut target = load_target(&args.target, args.triangles, w, h, &args.view, &xml)?;
     target.accel_options.bvh.compact |= args.bvh_compact;
     target.accel_options.bvh.pairs &= !args.bvh_no_pairs;
+    if let (Some(what), Some(out)) = (&args.heatmap, &args.output) {
+        return heatmaps(&target, &kinds, what, out);
+    }
     let options = BenchOptions {
         build_runs: args.builds,
         trace_runs: args.runs,
@@ -302,4 +312,48 @@ fn rate(mrays: f64) -> String {
     } else {
         format!("{mrays:.2e}")
     }
+}
+
+/// `--heatmap`: one picture of cost per structure over the target's camera rays.
+fn heatmaps(
+    target: &BenchTarget,
+    kinds: &[AccelKind],
+    what: &str,
+    out: &std::path::Path,
+) -> Result<()> {
+    let name = out.to_string_lossy();
+    if kinds.len() > 1 && !name.contains("{accel}") {
+        bail!(
+            "--output: several structures need `{{accel}}` in the name, such as heat_{{accel}}.png"
+        );
+    }
+    for &kind in kinds {
+        let accel = appel::accel::Accel::build_with(kind, &target.geometry, &target.accel_options);
+        let (w, h) = (target.camera.width, target.camera.height);
+        let cost = appel::render::cost::CostImage::trace(
+            w,
+            h,
+            |x, y| target.camera.ray(x, y),
+            |ray, s| {
+                accel.intersect(&target.geometry, ray, f32::INFINITY, s);
+            },
+        );
+        let values = if what == "nodes" {
+            &cost.nodes
+        } else {
+            &cost.tests
+        };
+        let path = std::path::PathBuf::from(name.replace("{accel}", kind.name()));
+        let label = format!("{what} per camera ray");
+        appel::output::heatmap::write_heatmap(&path, w, h, values, &label)?;
+        let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len().max(1) as f64;
+        let max = values.iter().copied().fold(0.0f32, f32::max);
+        println!(
+            "{}: {} {what} per camera ray under {}: mean {mean:.2}, max {max:.0}",
+            path.display(),
+            target.name,
+            kind.name()
+        );
+    }
+    Ok(())
 }

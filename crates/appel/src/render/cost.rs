@@ -3,6 +3,7 @@
 //! levels of an instanced scene summed. The `cost` AOV and `--heatmap` are made of this.
 
 use crate::accel::TraversalStats;
+use crate::math::Ray;
 use crate::scene::Scene;
 use rayon::prelude::*;
 
@@ -19,15 +20,31 @@ impl CostImage {
     /// Traces the camera ray through each pixel's centre of `scene` (its closest hit, as the
     /// camera rays of every integrator ask) and counts its work.
     pub fn of(scene: &Scene) -> CostImage {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        let rows: Vec<(Vec<f32>, Vec<f32>)> = (0..h)
+        Self::trace(
+            scene.camera.width,
+            scene.camera.height,
+            |x, y| scene.camera.ray(x, y),
+            |ray, s| {
+                scene.intersect(ray, f32::INFINITY, s);
+            },
+        )
+    }
+
+    /// The cost image of `width` by `height` pixels whose camera ray through film position
+    /// `(x, y)` is `ray(x, y)`, traced by `trace` (which counts its work in the stats it is given).
+    pub fn trace(
+        width: u32,
+        height: u32,
+        ray: impl Fn(f32, f32) -> Ray + Sync,
+        trace: impl Fn(&Ray, &mut TraversalStats) + Sync,
+    ) -> CostImage {
+        let rows: Vec<(Vec<f32>, Vec<f32>)> = (0..height)
             .into_par_iter()
             .map(|y| {
-                (0..w)
+                (0..width)
                     .map(|x| {
-                        let ray = scene.camera.ray(x as f32 + 0.5, y as f32 + 0.5);
                         let mut s = TraversalStats::default();
-                        scene.intersect(&ray, f32::INFINITY, &mut s);
+                        trace(&ray(x as f32 + 0.5, y as f32 + 0.5), &mut s);
                         (
                             (s.nodes_visited + s.instance_nodes_visited) as f32,
                             (s.prim_tests + s.instance_prim_tests) as f32,
@@ -36,16 +53,15 @@ impl CostImage {
                     .unzip()
             })
             .collect();
-        let (nodes, tests) =
-            rows.into_iter()
-                .fold((Vec::new(), Vec::new()), |(mut n, mut t), (rn, rt)| {
-                    n.extend(rn);
-                    t.extend(rt);
-                    (n, t)
-                });
+        let mut nodes = Vec::with_capacity(width as usize * height as usize);
+        let mut tests = Vec::with_capacity(nodes.capacity());
+        for (n, t) in rows {
+            nodes.extend(n);
+            tests.extend(t);
+        }
         CostImage {
-            width: w,
-            height: h,
+            width,
+            height,
             nodes,
             tests,
         }
