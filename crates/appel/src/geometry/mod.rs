@@ -3,6 +3,7 @@
 //! Every intersector returns the smallest `t` in `(0, t_max)` (a cheap [`PrimHit`]); the full
 //! [`SurfaceInteraction`] is computed once, for the final hit only.
 
+mod cylinder;
 pub mod implicit;
 mod instance_transform;
 mod mesh;
@@ -15,6 +16,7 @@ mod torus;
 mod transform;
 pub mod triangle;
 
+pub use cylinder::Cylinder;
 pub use implicit::Implicit;
 pub use instance_transform::InstanceTransform;
 pub use mesh::TriangleMesh;

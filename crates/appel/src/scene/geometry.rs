@@ -3,7 +3,7 @@
 use super::instance::{Instance, Prototype};
 use crate::accel::{closest_of, test_primitive, Hit, Primitives, TraversalStats};
 use crate::geometry::{
-    triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SphereBlock,
+    triangle_box_overlap, Cylinder, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SphereBlock,
     SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
 };
 use crate::io::mesh_file::MeshAttribute;
@@ -41,6 +41,7 @@ pub enum ShapeKind {
     /// Index into [`Geometry::implicits`] (the compiled formula lives there, not in the enum).
     Implicit(u32),
     Torus(Torus),
+    Cylinder(Cylinder),
     /// One `[[instance]]` entry: its primitives are instances, named by their index into
     /// [`Geometry::instances`].
     Instances,
@@ -219,7 +220,9 @@ impl Geometry {
         let id = self.shapes.len() as u32;
         match &kind {
             ShapeKind::Sphere(s) => self.push_single(id, Analytic::Sphere(*s)),
-            ShapeKind::Implicit(_) | ShapeKind::Torus(_) => self.push_single(id, Analytic::Other),
+            ShapeKind::Implicit(_) | ShapeKind::Torus(_) | ShapeKind::Cylinder(_) => {
+                self.push_single(id, Analytic::Other)
+            }
             ShapeKind::Plane(p) if p.half_size.is_none() => self.unbounded.push(id),
             ShapeKind::Plane(p) => self.push_single(id, Analytic::Rectangle(*p)),
             ShapeKind::Mesh(m) => {
@@ -440,6 +443,7 @@ impl Geometry {
                 }
             }
             ShapeKind::Torus(t) => t.intersect(ray, t_max),
+            ShapeKind::Cylinder(c) => c.intersect(ray, t_max),
             ShapeKind::Instances => {
                 let instance = &self.instances[index as usize];
                 self.prototypes[instance.prototype as usize].intersect(instance, ray, t_max, stats)
@@ -572,6 +576,7 @@ impl Geometry {
                 }
             }
             ShapeKind::Torus(t) => t.interaction(ray, &ph),
+            ShapeKind::Cylinder(c) => c.interaction(ray, &ph),
             ShapeKind::Instances => unreachable!("instance hits are handled above"),
         }
     }
@@ -634,6 +639,7 @@ impl Primitives for Geometry {
                 }
             }
             ShapeKind::Torus(t) => t.bounds(),
+            ShapeKind::Cylinder(c) => c.bounds(),
             ShapeKind::Instances => {
                 let instance = &self.instances[r.index as usize];
                 let prototype = &self.prototypes[instance.prototype as usize];

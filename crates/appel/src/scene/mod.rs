@@ -39,7 +39,7 @@ pub use progress::{LoadStep, SceneOptions};
 use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
 use crate::error::{Error, Location, Result};
 use crate::geometry::{
-    Implicit, ObjectTransform, Plane, Sphere, Torus, TriangleMesh, TriangleTest,
+    Cylinder, Implicit, ObjectTransform, Plane, Sphere, Torus, TriangleMesh, TriangleTest,
 };
 use crate::math::{Ray, Vec2, Vec3};
 use parse::{parse_description, toml_span, PathSeg, Syntax};
@@ -333,6 +333,15 @@ impl Scene {
                     let torus =
                         Torus::new(t.center.into(), t.major_radius, t.minor_radius, axis.into());
                     geometry.push(ShapeKind::Torus(torus), material);
+                }
+                ShapeDesc::Cylinder(c) => {
+                    let cylinder =
+                        Cylinder::new(c.to_world(), c.flip_normals).ok_or_else(|| {
+                            Error::Invalid(format!(
+                                "shape[{index}]: the cylinder's transform is not invertible"
+                            ))
+                        })?;
+                    geometry.push(ShapeKind::Cylinder(cylinder), material);
                 }
                 ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
                     let mesh = match s {

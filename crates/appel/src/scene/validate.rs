@@ -640,6 +640,18 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
             placed(c, &b.transform)?
         }
+        ShapeDesc::Cylinder(cy) => {
+            c.finite("p0", &cy.p0)?;
+            c.finite("p1", &cy.p1)?;
+            c.positive("radius", cy.radius)?;
+            if cy.p0 == cy.p1 {
+                return c.fail(
+                    "p1",
+                    "`p1` must differ from `p0`: the cylinder has no length",
+                );
+            }
+            placed(c, &cy.transform)?
+        }
     }
     if let Some(e) = s.emitter() {
         c.at(key("emitter"), |c| {
