@@ -4,6 +4,7 @@
 pub mod assets;
 pub mod bitmap_read;
 pub mod gltf;
+pub mod grid_volume;
 pub mod mesh_file;
 pub mod mitsuba;
 pub mod obj;

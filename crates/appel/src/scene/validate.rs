@@ -652,6 +652,12 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
             }
             placed(c, &cy.transform)?
         }
+        ShapeDesc::SdfGrid(g) => {
+            if g.file.is_empty() {
+                return c.fail("file", "`file` must name a grid volume (.vol)");
+            }
+            placed(c, &g.transform)?
+        }
     }
     if let Some(e) = s.emitter() {
         c.at(key("emitter"), |c| {
@@ -733,6 +739,13 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
         }
     }
     for (i, s) in d.shapes.iter().enumerate() {
+        if let ShapeDesc::SdfGrid(g) = s {
+            exists(
+                &g.file,
+                "grid volume",
+                vec![key("shape"), PathSeg::Index(i), key("file")],
+            )?;
+        }
         if let ShapeDesc::Mesh(m) = s {
             let p = base_dir.join(&m.file);
             if !crate::io::mesh_source_exists(&p) {

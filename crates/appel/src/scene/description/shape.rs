@@ -26,6 +26,9 @@ pub enum ShapeDesc {
     Disk(BasicShapeDesc),
     /// Mitsuba's open cylinder (a tube without caps) from `p0` to `p1`, placed by `transform`.
     Cylinder(CylinderDesc),
+    /// Mitsuba 3's signed distance grid: a `.vol` grid of distances spanning `[0, 1]^3`, whose zero
+    /// set (trilinearly interpolated) is the surface, placed by `transform`.
+    SdfGrid(SdfGridDesc),
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -33,6 +36,11 @@ pub enum ShapeDesc {
 pub struct SphereDesc {
     pub center: Vec3f,
     pub radius: f32,
+    /// Texture coordinates as Mitsuba's sphere gives them, (azimuth / 2 pi, polar angle / pi),
+    /// about the frame whose unit axes x, y, z (the pole) are these three rows. Without it, u and
+    /// v are arc lengths along longitude and latitude about +y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mitsuba_uv: Option<[Vec3f; 3]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -119,6 +127,29 @@ pub struct BasicShapeDesc {
     pub material: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub emitter: Option<AreaEmitterDesc>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SdfGridDesc {
+    /// A single-channel Mitsuba grid volume (`.vol`), relative to the scene file's folder.
+    pub file: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+    /// Shading normals: `smooth` (blended across voxels, the default) or `analytic` (the
+    /// interpolant's gradient).
+    #[serde(default)]
+    pub normals: SdfNormalsDesc,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum SdfNormalsDesc {
+    #[default]
+    Smooth,
+    Analytic,
 }
 
 /// The tube of radius `radius` around the segment `p0`-`p1` (no caps), then placed by `transform`;
@@ -211,6 +242,7 @@ impl ShapeDesc {
                 s.material.as_deref()
             }
             ShapeDesc::Cylinder(s) => s.material.as_deref(),
+            ShapeDesc::SdfGrid(s) => s.material.as_deref(),
         }
     }
 
@@ -222,7 +254,10 @@ impl ShapeDesc {
             ShapeDesc::Mesh(s) => s.emitter.as_ref(),
             ShapeDesc::Rectangle(s) | ShapeDesc::Cube(s) | ShapeDesc::Disk(s) => s.emitter.as_ref(),
             ShapeDesc::Cylinder(s) => s.emitter.as_ref(),
-            ShapeDesc::Plane(_) | ShapeDesc::Implicit(_) | ShapeDesc::Torus(_) => None,
+            ShapeDesc::Plane(_)
+            | ShapeDesc::Implicit(_)
+            | ShapeDesc::Torus(_)
+            | ShapeDesc::SdfGrid(_) => None,
         }
     }
 
@@ -260,6 +295,7 @@ impl ShapeDesc {
                 scale_transform(&mut x.transform)
             }
             ShapeDesc::Cylinder(x) => scale_transform(&mut x.transform),
+            ShapeDesc::SdfGrid(x) => scale_transform(&mut x.transform),
         }
     }
 }

@@ -7,8 +7,8 @@ use super::super::document::{Object, Target};
 use super::{columns, rows_f32, Converter, DEFAULT_MATERIAL};
 use crate::error::Result;
 use crate::scene::description::{
-    BasicShapeDesc, CylinderDesc, InstanceDesc, MeshDesc, MeshShapeDesc, ShapeDesc, SphereDesc,
-    TransformDesc,
+    BasicShapeDesc, CylinderDesc, InstanceDesc, MeshDesc, MeshShapeDesc, SdfGridDesc,
+    SdfNormalsDesc, ShapeDesc, SphereDesc, TransformDesc,
 };
 use glam::{DMat4, DVec3};
 use std::rc::Rc;
@@ -73,9 +73,13 @@ impl Converter<'_> {
                 let scale = similarity_scale(&to_world).ok_or_else(|| {
                     s.error("a sphere's to_world may only rotate, translate and scale uniformly")
                 })?;
+                // The sphere's own frame orients Mitsuba's parameterisation.
+                let (_, x, y, z) = columns(&to_world);
+                let axis = |v: DVec3| super::f32s(v / scale);
                 ShapeDesc::Sphere(SphereDesc {
                     center: super::f32s(to_world.transform_point3(center)),
                     radius: (radius * scale) as f32,
+                    mitsuba_uv: Some([axis(x), axis(y), axis(z)]),
                     material,
                     emitter,
                 })
@@ -92,6 +96,27 @@ impl Converter<'_> {
                     "cube" => ShapeDesc::Cube(b),
                     _ => ShapeDesc::Disk(b),
                 }
+            }
+            "sdfgrid" => {
+                if emitter.is_some() {
+                    return Err(s.error("an sdfgrid cannot emit (as in Mitsuba)"));
+                }
+                let normals = match s.string("normals")?.unwrap_or("smooth") {
+                    "smooth" => SdfNormalsDesc::Smooth,
+                    "analytic" => SdfNormalsDesc::Analytic,
+                    other => {
+                        let p = s.prop("normals").expect("read above");
+                        return Err(
+                            p.error(format!("unknown normals \"{other}\" (smooth or analytic)"))
+                        );
+                    }
+                };
+                ShapeDesc::SdfGrid(SdfGridDesc {
+                    file: self.file(s, "filename")?,
+                    transform: placed(to_world),
+                    normals,
+                    material,
+                })
             }
             "cylinder" => {
                 let point = |name: &str, default: [f64; 3]| -> Result<[f32; 3]> {
