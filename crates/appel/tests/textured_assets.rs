@@ -165,6 +165,86 @@ fn damaged_helmet_colours_follow_its_base_colour_texture() {
     }
 }
 
+/// The GLB with its JSON chunk changed by `edit` (the binary chunk kept as it is).
+fn rewrite_glb(bytes: &[u8], edit: impl FnOnce(&mut serde_json::Value)) -> Vec<u8> {
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let mut json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    edit(&mut json);
+    let mut chunk = serde_json::to_vec(&json).unwrap();
+    while chunk.len() % 4 != 0 {
+        chunk.push(b' ');
+    }
+    let rest = &bytes[20 + json_len..];
+    let mut out = b"glTF".to_vec();
+    out.extend(2u32.to_le_bytes());
+    out.extend(((20 + chunk.len() + rest.len()) as u32).to_le_bytes());
+    out.extend((chunk.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(chunk);
+    out.extend(rest);
+    out
+}
+
+/// DamagedHelmet's normal map reaches the image: rendered without its `normalTexture`, the
+/// helmet looks clearly different; with a flat normal map (0.5, 0.5, 1 everywhere, stored as
+/// floats so that it is exactly the unperturbed normal) instead, it looks the same as without
+/// one, to float noise.
+#[test]
+fn damaged_helmet_normal_map_tilts_and_a_flat_one_does_not() {
+    let Some(path) = shared("gltf-models/DamagedHelmet/glTF-Binary/DamagedHelmet.glb") else {
+        return;
+    };
+    let bytes = std::fs::read(&path).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    exr::prelude::write_rgb_file(dir.path().join("flat.exr"), 4, 4, |_, _| {
+        (0.5f32, 0.5f32, 1.0f32)
+    })
+    .unwrap();
+    let write = |name: &str, edit: &dyn Fn(&mut serde_json::Value)| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, rewrite_glb(&bytes, edit)).unwrap();
+        p
+    };
+    let none = write("none.glb", &|j| {
+        for m in j["materials"].as_array_mut().unwrap() {
+            m.as_object_mut().unwrap().remove("normalTexture");
+        }
+    });
+    let flat = write("flat.glb", &|j| {
+        let images = j["images"].as_array_mut().unwrap();
+        images.push(serde_json::json!({ "uri": "flat.exr" }));
+        let image = images.len() - 1;
+        let textures = j["textures"].as_array_mut().unwrap();
+        textures.push(serde_json::json!({ "source": image }));
+        let texture = textures.len() - 1;
+        for m in j["materials"].as_array_mut().unwrap() {
+            m["normalTexture"] = serde_json::json!({ "index": texture });
+        }
+    });
+    let (w, h, spp) = (64, 48, 4);
+    let (_, mapped) = render_model(&path, w, h, spp);
+    let (_, without) = render_model(&none, w, h, spp);
+    let (_, flat) = render_model(&flat, w, h, spp);
+    let mean = |f: &Film| f.rgb.iter().map(|c| c.x + c.y + c.z).sum::<f32>() / f.rgb.len() as f32;
+    let mean_abs_diff = |a: &Film, b: &Film| {
+        a.rgb
+            .iter()
+            .zip(&b.rgb)
+            .map(|(x, y)| (*x - *y).abs().element_sum())
+            .sum::<f32>()
+            / a.rgb.len() as f32
+    };
+    let scale = mean(&without);
+    let tilted = mean_abs_diff(&mapped, &without) / scale;
+    let flat_diff = mean_abs_diff(&flat, &without) / scale;
+    let identical = flat.rgb == without.rgb;
+    eprintln!(
+        "relative mean |difference| from no normal map: mapped {tilted}, flat {flat_diff} (identical: {identical})"
+    );
+    assert!(tilted > 0.05, "{tilted}");
+    assert!(flat_diff < 1e-4, "{flat_diff}");
+}
+
 /// FlightHelmet's textures are not in the shared data: the model renders with its factors and a
 /// warning names a missing texture.
 #[test]
