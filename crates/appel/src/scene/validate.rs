@@ -597,6 +597,12 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         ShapeDesc::Sphere(s) => {
             c.finite("center", &s.center)?;
             c.positive("radius", s.radius)?;
+            if let Some(rows) = &s.mitsuba_uv {
+                c.finite("mitsuba_uv", rows.as_flattened())?;
+                for r in rows {
+                    c.non_zero("mitsuba_uv", *r)?;
+                }
+            }
         }
         ShapeDesc::Plane(p) => {
             c.finite("point", &p.point)?;
