@@ -171,7 +171,7 @@ fn rewrite_glb(bytes: &[u8], edit: impl FnOnce(&mut serde_json::Value)) -> Vec<u
     let mut json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
     edit(&mut json);
     let mut chunk = serde_json::to_vec(&json).unwrap();
-    while chunk.len() % 4 != 0 {
+    while !chunk.len().is_multiple_of(4) {
         chunk.push(b' ');
     }
     let rest = &bytes[20 + json_len..];

@@ -135,7 +135,7 @@ impl SdfGrid {
             t_lo = t_lo.max(t0.min(t1));
             t_hi = t_hi.min(t0.max(t1));
         }
-        if !(t_lo <= t_hi) {
+        if t_lo.partial_cmp(&t_hi).is_none_or(|o| o.is_gt()) {
             return None;
         }
         let p = o + t_lo * d;
@@ -219,7 +219,7 @@ impl SdfGrid {
                 leave = Some(a);
             }
         }
-        if !(ta <= tb) {
+        if ta.partial_cmp(&tb).is_none_or(|o| o.is_gt()) {
             return None;
         }
         let c = self.corners(v);

@@ -41,7 +41,8 @@ pub enum ShapeKind {
     /// Index into [`Geometry::implicits`] (the compiled formula lives there, not in the enum).
     Implicit(u32),
     Torus(Torus),
-    Cylinder(Cylinder),
+    /// Boxed: its two transforms would make every shape's entry several times larger.
+    Cylinder(Box<Cylinder>),
     SdfGrid(std::sync::Arc<SdfGrid>),
     /// One `[[instance]]` entry: its primitives are instances, named by their index into
     /// [`Geometry::instances`].

@@ -346,7 +346,7 @@ impl Scene {
                                 "shape[{index}]: the cylinder's transform is not invertible"
                             ))
                         })?;
-                    geometry.push(ShapeKind::Cylinder(cylinder), material);
+                    geometry.push(ShapeKind::Cylinder(Box::new(cylinder)), material);
                 }
                 ShapeDesc::SdfGrid(g) => {
                     let path = base_dir.join(&g.file);

@@ -87,7 +87,7 @@ impl ShapeSampler {
             && x.dot(y).abs() <= tol * r * r
             && x.dot(z).abs() <= tol * r * len
             && y.dot(z).abs() <= tol * r * len;
-        circular.then(|| ShapeSampler::Cylinder {
+        circular.then_some(ShapeSampler::Cylinder {
             to_world,
             flip,
             area: 2.0 * PI * r * len,

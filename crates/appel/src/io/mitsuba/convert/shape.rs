@@ -128,7 +128,7 @@ impl Converter<'_> {
                     return Err(s.error("the cylinder's p0 and p1 coincide: it has no length"));
                 }
                 let radius = s.float_or("radius", 1.0)?;
-                if !(radius > 0.0) {
+                if radius.is_nan() || radius <= 0.0 {
                     let p = s.prop("radius").expect("read above");
                     return Err(p.error(format!("the radius must be positive, got {radius}")));
                 }
