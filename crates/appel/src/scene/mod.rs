@@ -39,7 +39,8 @@ pub use progress::{LoadStep, SceneOptions};
 use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
 use crate::error::{Error, Location, Result};
 use crate::geometry::{
-    Implicit, ObjectTransform, Plane, Sphere, Torus, TriangleMesh, TriangleTest,
+    Cylinder, Implicit, ObjectTransform, Plane, SdfGrid, SdfNormals, Sphere, Torus, TriangleMesh,
+    TriangleTest,
 };
 use crate::math::{Ray, Vec2, Vec3};
 use parse::{parse_description, toml_span, PathSeg, Syntax};
@@ -295,10 +296,14 @@ impl Scene {
                 .map_or(0, |i| i as u32 + 1);
             match s {
                 ShapeDesc::Sphere(s) => {
-                    geometry.push(
+                    let id = geometry.push(
                         ShapeKind::Sphere(Sphere::new(s.center.into(), s.radius)),
                         material,
                     );
+                    if let Some(rows) = s.mitsuba_uv {
+                        let rows = glam::Mat3::from_cols_array_2d(&rows).transpose();
+                        geometry.set_sphere_uv_frame(id, rows);
+                    }
                 }
                 ShapeDesc::Plane(p) => {
                     let plane =
@@ -333,6 +338,36 @@ impl Scene {
                     let torus =
                         Torus::new(t.center.into(), t.major_radius, t.minor_radius, axis.into());
                     geometry.push(ShapeKind::Torus(torus), material);
+                }
+                ShapeDesc::Cylinder(c) => {
+                    let cylinder =
+                        Cylinder::new(c.to_world(), c.flip_normals).ok_or_else(|| {
+                            Error::Invalid(format!(
+                                "shape[{index}]: the cylinder's transform is not invertible"
+                            ))
+                        })?;
+                    geometry.push(ShapeKind::Cylinder(Box::new(cylinder)), material);
+                }
+                ShapeDesc::SdfGrid(g) => {
+                    let path = base_dir.join(&g.file);
+                    let grid = crate::io::grid_volume::read_grid_volume(&path)?;
+                    let at = |msg: String| Error::input(Location::file(&path), msg);
+                    if grid.channels != 1 {
+                        return Err(at(format!(
+                            "an SDF grid has one channel, this volume has {}",
+                            grid.channels
+                        )));
+                    }
+                    let normals = match g.normals {
+                        description::SdfNormalsDesc::Smooth => SdfNormals::Smooth,
+                        description::SdfNormalsDesc::Analytic => SdfNormals::Analytic,
+                    };
+                    let m = g
+                        .transform
+                        .as_ref()
+                        .map_or(glam::Mat4::IDENTITY, |t| t.matrix());
+                    let sdf = SdfGrid::new(grid.resolution, grid.data, m, normals).map_err(at)?;
+                    geometry.push(ShapeKind::SdfGrid(std::sync::Arc::new(sdf)), material);
                 }
                 ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
                     let mesh = match s {

@@ -597,6 +597,12 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         ShapeDesc::Sphere(s) => {
             c.finite("center", &s.center)?;
             c.positive("radius", s.radius)?;
+            if let Some(rows) = &s.mitsuba_uv {
+                c.finite("mitsuba_uv", rows.as_flattened())?;
+                for r in rows {
+                    c.non_zero("mitsuba_uv", *r)?;
+                }
+            }
         }
         ShapeDesc::Plane(p) => {
             c.finite("point", &p.point)?;
@@ -639,6 +645,24 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         }
         ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
             placed(c, &b.transform)?
+        }
+        ShapeDesc::Cylinder(cy) => {
+            c.finite("p0", &cy.p0)?;
+            c.finite("p1", &cy.p1)?;
+            c.positive("radius", cy.radius)?;
+            if cy.p0 == cy.p1 {
+                return c.fail(
+                    "p1",
+                    "`p1` must differ from `p0`: the cylinder has no length",
+                );
+            }
+            placed(c, &cy.transform)?
+        }
+        ShapeDesc::SdfGrid(g) => {
+            if g.file.is_empty() {
+                return c.fail("file", "`file` must name a grid volume (.vol)");
+            }
+            placed(c, &g.transform)?
         }
     }
     if let Some(e) = s.emitter() {
@@ -721,6 +745,13 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
         }
     }
     for (i, s) in d.shapes.iter().enumerate() {
+        if let ShapeDesc::SdfGrid(g) = s {
+            exists(
+                &g.file,
+                "grid volume",
+                vec![key("shape"), PathSeg::Index(i), key("file")],
+            )?;
+        }
         if let ShapeDesc::Mesh(m) = s {
             let p = base_dir.join(&m.file);
             if !crate::io::mesh_source_exists(&p) {
