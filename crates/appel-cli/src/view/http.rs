@@ -24,14 +24,39 @@ impl Request {
             .map(|(_, v)| v.as_str())
     }
 
-    /// `key=value` pairs of the query string (no percent-decoding: the API's values are plain
-    /// names and numbers).
-    pub fn query_pairs(&self) -> impl Iterator<Item = (&str, &str)> {
+    /// `key=value` pairs of the query string, percent-decoded (pages encode the commas of
+    /// coordinate lists).
+    pub fn query_pairs(&self) -> impl Iterator<Item = (String, String)> + '_ {
         self.query
             .split('&')
             .filter(|p| !p.is_empty())
             .map(|p| p.split_once('=').unwrap_or((p, "")))
+            .map(|(k, v)| (percent_decode(k), percent_decode(v)))
     }
+}
+
+/// `%2C` to `,` and `+` to a space; a malformed escape stays as it is.
+fn percent_decode(s: &str) -> String {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let hex = |c: u8| (c as char).to_digit(16);
+        match b[i] {
+            b'%' if i + 2 < b.len() => match (hex(b[i + 1]), hex(b[i + 2])) {
+                (Some(h), Some(l)) => {
+                    out.push((h * 16 + l) as u8);
+                    i += 3;
+                    continue;
+                }
+                _ => out.push(b'%'),
+            },
+            b'+' => out.push(b' '),
+            c => out.push(c),
+        }
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 #[derive(Debug, PartialEq)]
@@ -128,10 +153,12 @@ mod tests {
             (r.method.as_str(), r.path.as_str()),
             ("GET", "/api/lecture")
         );
+        let pairs: Vec<(String, String)> = r.query_pairs().collect();
         assert_eq!(
-            r.query_pairs().collect::<Vec<_>>(),
-            [("n", "5"), ("s", "grid")]
+            pairs,
+            [("n".into(), "5".into()), ("s".into(), "grid".into())]
         );
+        assert_eq!(percent_decode("1%2C2%2c3+x%zz%4"), "1,2,3 x%zz%4");
         assert_eq!(r.header("upgrade"), Some("websocket"));
         for bad in [
             &b"GET / HTTP/1.1 extra"[..],

@@ -18,7 +18,8 @@ pub fn answer(req: &Request) -> Result<String, String> {
     };
     let mut ray = None;
     for (k, v) in req.query_pairs() {
-        match k {
+        let v = v.as_str();
+        match k.as_str() {
             "scene" => {
                 scene = *scenes::NAMES
                     .iter()

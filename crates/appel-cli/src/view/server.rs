@@ -50,15 +50,16 @@ pub fn serve_until(
             http::error(&mut stream, "503 Service Unavailable");
             continue;
         }
-        let (shared, stop, active) = (shared.clone(), stop.clone(), active.clone());
+        let (shared, stop, counter) = (shared.clone(), stop.clone(), active.clone());
         let spawned = std::thread::Builder::new()
             .name("appel-view-conn".into())
             .spawn(move || {
                 handle(stream, &shared, &stop);
-                active.fetch_sub(1, Ordering::SeqCst);
+                counter.fetch_sub(1, Ordering::SeqCst);
             });
         if spawned.is_err() {
-            // The counter was taken for a thread that never ran.
+            // The slot was taken for a thread that never ran.
+            active.fetch_sub(1, Ordering::SeqCst);
             eprintln!("warning: could not start a connection thread");
         }
     }

@@ -374,8 +374,9 @@ fn scene_info(view: &View) -> serde_json::Value {
     })
 }
 
-fn send_json(ws: &mut WebSocket<TcpStream>, v: &serde_json::Value) -> Result<(), WsError> {
-    ws.send(Message::Text(v.to_string()))
+/// Sends a JSON message; `Err` when the connection is gone (the reason does not matter).
+fn send_json(ws: &mut WebSocket<TcpStream>, v: &serde_json::Value) -> Result<(), ()> {
+    ws.send(Message::Text(v.to_string())).map_err(|_| ())
 }
 
 fn integrator_name(k: IntegratorKind) -> &'static str {

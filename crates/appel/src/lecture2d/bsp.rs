@@ -35,7 +35,7 @@ impl Bsp {
 fn perimeter(poly: &[P2]) -> f64 {
     (0..poly.len())
         .map(|i| {
-            let e = poly[(i + 1) % poly.len()].sub(poly[i]);
+            let e = poly[(i + 1) % poly.len()].minus(poly[i]);
             e.dot(e).sqrt()
         })
         .sum()
@@ -43,7 +43,7 @@ fn perimeter(poly: &[P2]) -> f64 {
 
 /// The line through `a` and `b` as `(n, d)`, `n` of unit length.
 fn line(a: P2, b: P2) -> Option<(P2, f64)> {
-    let e = b.sub(a);
+    let e = b.minus(a);
     let len = e.dot(e).sqrt();
     (len > 1e-9).then(|| {
         let n = P2::new(-e.y / len, e.x / len);

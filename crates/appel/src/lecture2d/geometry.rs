@@ -14,10 +14,10 @@ impl P2 {
     pub const fn new(x: f64, y: f64) -> Self {
         Self { x, y }
     }
-    pub fn add(self, o: P2) -> P2 {
+    pub fn plus(self, o: P2) -> P2 {
         P2::new(self.x + o.x, self.y + o.y)
     }
-    pub fn sub(self, o: P2) -> P2 {
+    pub fn minus(self, o: P2) -> P2 {
         P2::new(self.x - o.x, self.y - o.y)
     }
     pub fn scale(self, k: f64) -> P2 {
@@ -62,10 +62,10 @@ impl Box2 {
         self.union(Box2 { min: p, max: p })
     }
     pub fn extent(self) -> P2 {
-        self.max.sub(self.min)
+        self.max.minus(self.min)
     }
     pub fn centre(self) -> P2 {
-        self.min.add(self.max).scale(0.5)
+        self.min.plus(self.max).scale(0.5)
     }
     /// In 2D a random line meets a convex region with probability proportional to its
     /// perimeter (Cauchy-Crofton), which therefore plays the part of the surface area in the SAH.
@@ -124,7 +124,7 @@ pub struct Ray2 {
 impl Ray2 {
     /// The ray from `a` towards `b`; `None` if they coincide.
     pub fn through(a: P2, b: P2) -> Option<Ray2> {
-        let d = b.sub(a);
+        let d = b.minus(a);
         let len = d.dot(d).sqrt();
         (len > 1e-12).then(|| Ray2 {
             o: a,
@@ -132,7 +132,7 @@ impl Ray2 {
         })
     }
     pub fn at(&self, t: f64) -> P2 {
-        self.o.add(self.d.scale(t))
+        self.o.plus(self.d.scale(t))
     }
 }
 
@@ -166,8 +166,8 @@ impl Shape {
     pub fn centroid(&self) -> P2 {
         match *self {
             Shape::Circle { c, .. } => c,
-            Shape::Segment { a, b } => a.add(b).scale(0.5),
-            Shape::Triangle { a, b, c } => a.add(b).add(c).scale(1.0 / 3.0),
+            Shape::Segment { a, b } => a.plus(b).scale(0.5),
+            Shape::Triangle { a, b, c } => a.plus(b).plus(c).scale(1.0 / 3.0),
         }
     }
 
@@ -177,7 +177,7 @@ impl Shape {
         match *self {
             Shape::Circle { c, r } => {
                 // |o + t d - c|^2 = r^2 with |d| = 1.
-                let oc = ray.o.sub(c);
+                let oc = ray.o.minus(c);
                 let b = oc.dot(ray.d);
                 let disc = b * b - (oc.dot(oc) - r * r);
                 if disc < 0.0 {
@@ -219,12 +219,12 @@ impl Shape {
 
 /// The ray's `t` at the segment `pq`, if it crosses it.
 fn segment_hit(ray: &Ray2, p: P2, q: P2) -> Option<f64> {
-    let e = q.sub(p);
+    let e = q.minus(p);
     let denom = ray.d.cross(e);
     if denom.abs() < 1e-15 {
         return None;
     }
-    let w = p.sub(ray.o);
+    let w = p.minus(ray.o);
     let t = w.cross(e) / denom;
     let u = w.cross(ray.d) / denom;
     ((0.0..=1.0).contains(&u) && t >= 0.0).then_some(t)

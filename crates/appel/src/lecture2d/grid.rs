@@ -97,7 +97,7 @@ impl Grid {
         );
         Box2 {
             min,
-            max: min.add(s),
+            max: min.plus(s),
         }
     }
 

@@ -38,14 +38,14 @@ fn object_at(rng: &mut Rng, c: P2, s: f64) -> Shape {
         1 => {
             let h = dir(angle).scale(s * 0.7);
             Shape::Segment {
-                a: c.sub(h),
-                b: c.add(h),
+                a: c.minus(h),
+                b: c.plus(h),
             }
         }
         _ => Shape::Triangle {
-            a: c.add(dir(angle).scale(s * 0.6)),
-            b: c.add(dir(angle + 2.1).scale(s * 0.6)),
-            c: c.add(dir(angle + 4.2).scale(s * 0.6)),
+            a: c.plus(dir(angle).scale(s * 0.6)),
+            b: c.plus(dir(angle + 2.1).scale(s * 0.6)),
+            c: c.plus(dir(angle + 4.2).scale(s * 0.6)),
         },
     }
 }
@@ -155,7 +155,7 @@ pub fn random_rays(n: usize, seed: u64) -> Vec<Ray2> {
         .filter_map(|_| {
             let o = P2::new(rng.range(0.0, 100.0), rng.range(0.0, 100.0));
             let a = rng.range(0.0, std::f64::consts::TAU);
-            Ray2::through(o, o.add(P2::new(a.cos(), a.sin())))
+            Ray2::through(o, o.plus(P2::new(a.cos(), a.sin())))
         })
         .collect()
 }

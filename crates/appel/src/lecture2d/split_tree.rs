@@ -16,6 +16,9 @@ pub struct SplitNode {
 /// A node's choice: a line and, for SAH builds, the curve it came from; `None` makes a leaf.
 pub type Choice = Option<(P2, f64, Option<SahCurve>)>;
 
+/// Picks a node's line from the objects, the node's region and the objects inside it, and depth.
+pub type Chooser<'a> = &'a dyn Fn(&[Shape], &[P2], &[usize], u32) -> Choice;
+
 pub struct SplitTree {
     pub nodes: Vec<SplitNode>,
     pub steps: Vec<BuildStep>,
@@ -25,11 +28,7 @@ pub const MAX_DEPTH: u32 = 12;
 
 impl SplitTree {
     /// Builds by asking `choose` for each node's line, given the region and its objects.
-    pub fn build(
-        objects: &[Shape],
-        region: Vec<P2>,
-        choose: &dyn Fn(&[Shape], &[P2], &[usize], u32) -> Choice,
-    ) -> SplitTree {
+    pub fn build(objects: &[Shape], region: Vec<P2>, choose: Chooser) -> SplitTree {
         let mut t = SplitTree {
             nodes: Vec::new(),
             steps: Vec::new(),
@@ -44,7 +43,7 @@ impl SplitTree {
         region: Vec<P2>,
         inside: Vec<usize>,
         depth: u32,
-        choose: &dyn Fn(&[Shape], &[P2], &[usize], u32) -> Choice,
+        choose: Chooser,
     ) -> usize {
         let id = self.nodes.len();
         self.nodes.push(SplitNode {
@@ -150,7 +149,7 @@ pub fn clip(poly: &[P2], n: P2, d: f64, keep_above: bool) -> Vec<P2> {
         }
         if (sp >= 0.0) != (sq >= 0.0) {
             let t = sp / (sp - sq);
-            out.push(p.add(q.sub(p).scale(t)));
+            out.push(p.plus(q.minus(p).scale(t)));
         }
     }
     out
@@ -163,7 +162,7 @@ fn chord(poly: &[P2], n: P2, d: f64) -> Option<[P2; 2]> {
         let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
         let (sp, sq) = (n.dot(p) - d, n.dot(q) - d);
         if (sp < 0.0) != (sq < 0.0) {
-            pts.push(p.add(q.sub(p).scale(sp / (sp - sq))));
+            pts.push(p.plus(q.minus(p).scale(sp / (sp - sq))));
         } else if sp == 0.0 {
             pts.push(p);
         }
