@@ -66,7 +66,8 @@ fn status(response: &str) -> &str {
     response.lines().next().unwrap_or("")
 }
 
-/// Reads until a text message of type `kind`, returning it (binary frames are counted).
+/// Reads until a text message of type `kind`, returning it (binary frames are counted, frames
+/// passed over are acknowledged).
 fn until(ws: &mut WebSocket<TcpStream>, kind: &str, binaries: &mut usize) -> serde_json::Value {
     loop {
         match ws.read().expect("server still talking") {
@@ -74,6 +75,11 @@ fn until(ws: &mut WebSocket<TcpStream>, kind: &str, binaries: &mut usize) -> ser
                 let v: serde_json::Value = serde_json::from_str(&t).unwrap();
                 if v["type"] == kind {
                     return v;
+                }
+                if v["type"] == "frame" {
+                    // Skipped frames are acknowledged, so the server goes on sending.
+                    let ack = format!(r#"{{"type":"ack","frame":{}}}"#, v["id"]);
+                    let _ = ws.send(Message::Text(ack));
                 }
             }
             Message::Binary(b) => {
