@@ -106,8 +106,10 @@ def test_viewer_frame_rate_while_moving(serve, browser):
         for fmt in ("jpeg", "png", "raw"):
             set_settings(browser, format=fmt, preview_scale=scale)
             results[(fmt, scale)] = measure_fps(browser)
-    for (fmt, scale), fps in results.items():
-        print(f"whitted 640x480 preview 1/{scale} {fmt}: {fps:.1f} fps")
+            last = browser.execute_script("return window.appelViewer.last")
+            print(f"whitted 640x480 preview 1/{scale} {fmt}: {results[(fmt, scale)]:.1f} fps, "
+                  f"last frame {last['width']}x{last['height']} {last['bytes']} bytes, "
+                  f"render {last['render_ms']:.1f} ms, encode {last['encode_ms']:.1f} ms")
     assert max(results.values()) >= 3, results
 
 
