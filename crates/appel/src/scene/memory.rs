@@ -89,6 +89,7 @@ pub fn estimate_memory(d: &Description, base_dir: &Path) -> Result<MemoryEstimat
     for s in &d.shapes {
         let (t, v) = match s {
             ShapeDesc::Mesh(m) => mesh_counts(&base_dir.join(&m.file))?,
+            ShapeDesc::TriangleMesh(m) => (m.indices.len() as u64, m.positions.len() as u64),
             _ => (1, 3),
         };
         e.triangles += t;

@@ -604,6 +604,40 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
             placed(c, &b.transform)?
         }
+        ShapeDesc::TriangleMesh(m) => {
+            // Named by index rather than printed whole: the arrays may be long.
+            let all_finite = |key: &str, v: &[f32], per: usize| match v
+                .iter()
+                .position(|x| !x.is_finite())
+            {
+                Some(i) => c.fail(key, format!("`{key}[{}]` is not finite", i / per)),
+                None => Ok(()),
+            };
+            all_finite("positions", m.positions.as_flattened(), 3)?;
+            let n = m.positions.len();
+            if let Some(bad) = m.indices.iter().flatten().find(|&&i| i as usize >= n) {
+                return c.fail(
+                    "indices",
+                    format!("index {bad} is out of range: the mesh has {n} positions"),
+                );
+            }
+            if let Some(normals) = &m.normals {
+                all_finite("normals", normals.as_flattened(), 3)?;
+                if normals.len() != n {
+                    return c.fail(
+                        "normals",
+                        format!("{} normals for {n} positions", normals.len()),
+                    );
+                }
+            }
+            if let Some(uvs) = &m.uvs {
+                all_finite("uvs", uvs.as_flattened(), 2)?;
+                if uvs.len() != n {
+                    return c.fail("uvs", format!("{} uvs for {n} positions", uvs.len()));
+                }
+            }
+            placed(c, &m.transform)?;
+        }
     }
     if let Some(e) = s.emitter() {
         c.at(key("emitter"), |c| {
