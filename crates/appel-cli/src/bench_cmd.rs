@@ -269,7 +269,7 @@ fn load_target(
         skip_top_level: true,
         ..Default::default()
     };
-    let (scene, _) = load_scene_with(Some(name), xml, adjust, skip).map_err(|e| {
+    let (scene, _) = load_scene_with(Some(name), xml, adjust, skip, view.camera).map_err(|e| {
         anyhow!(
             "{e:#}\n(generated benchmark scenes: {})",
             BENCH_SCENES

@@ -30,7 +30,13 @@ pub fn run(args: ConvertArgs) -> Result<()> {
         skip_top_level: true,
         ..Default::default()
     };
-    let (scene, _) = load_scene_with(Some(&args.input), &Default::default(), |_| Ok(()), skip)?;
+    let (scene, _) = load_scene_with(
+        Some(&args.input),
+        &Default::default(),
+        |_| Ok(()),
+        skip,
+        None,
+    )?;
     // One mesh per `[[shape]]`, its triangles in the source file's order, so that a triangle's index
     // in the output is its `[[shape]]`'s offset plus its `primid`. Instances are flattened: one
     // mesh per `[[instance]]` entry, its placements one after the other.

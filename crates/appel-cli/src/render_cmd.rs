@@ -1,7 +1,7 @@
 use crate::scene_args::{load_scene_with, ParamArgs, ViewArgs};
 use anyhow::{anyhow, bail, Context, Result};
 use appel::output::image::{write_image, Aovs, ImageFormat};
-use appel::render::{render, RenderOptions};
+use appel::render::{render, RenderOptions, Window};
 use appel::scene::{Description, LoadStep, SceneOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -38,10 +38,14 @@ pub struct RenderArgs {
     /// Override render.spp.
     #[arg(long)]
     spp: Option<u32>,
-    /// Path and direct: stop after the pass of samples during which this many seconds have
-    /// passed (the image then has fewer samples than --spp).
+    /// Stop after the pass of samples during which this many seconds have passed (the image then
+    /// has fewer samples per pixel than --spp).
     #[arg(long, value_name = "SECONDS")]
     time_limit: Option<f64>,
+    /// Render only pixels X0..X1 by Y0..Y1 (end excluded): the image is the window's size and
+    /// its pixels are those of the whole render.
+    #[arg(long, value_name = "X0,Y0,X1,Y1")]
+    window: Option<String>,
     /// Override render.max_depth (path and direct: -1 is unlimited).
     #[arg(long, allow_hyphen_values = true)]
     max_depth: Option<i32>,
@@ -68,6 +72,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             bail!("--time-limit: expected a positive number of seconds, got {t}");
         }
     }
+    let window = args.window.as_deref().map(parse_window).transpose()?;
     let aovs = match &args.aov {
         Some(list) => Aovs::parse(list).map_err(|e| anyhow!("--aov: {e}"))?,
         None => Aovs::default(),
@@ -127,6 +132,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             &xml,
             |d| apply_settings(d, &args),
             scene_options,
+            args.view.camera,
         )
     });
     if let Some(b) = load_bar {
@@ -159,7 +165,14 @@ pub fn run(args: RenderArgs) -> Result<()> {
         );
     }
 
-    let pixels = scene.camera.width as u64 * scene.camera.height as u64;
+    if let Some(w) = window {
+        w.check(scene.camera.width, scene.camera.height)
+            .map_err(|e| anyhow!("--window: {e}"))?;
+    }
+    let pixels = window.map_or(
+        scene.camera.width as u64 * scene.camera.height as u64,
+        |w| (w.x1 - w.x0) as u64 * (w.y1 - w.y0) as u64,
+    );
     let bar = show.then(|| {
         let bar = ProgressBar::new(pixels);
         bar.set_style(
@@ -180,6 +193,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         progress: Some(&progress),
         cancel: Some(&cancel),
         time_limit: args.time_limit.map(std::time::Duration::from_secs_f64),
+        window,
     };
     let rendered = pool.install(|| render(&scene, &options));
     if let Some(b) = bar {
@@ -229,6 +243,19 @@ pub fn run(args: RenderArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `X0,Y0,X1,Y1` in pixels.
+fn parse_window(s: &str) -> Result<Window> {
+    let v: Vec<u32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<u32>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| anyhow!("--window: expected X0,Y0,X1,Y1 in pixels, got `{s}`"))?;
+    let [x0, y0, x1, y1] = v[..] else {
+        bail!("--window: expected four numbers X0,Y0,X1,Y1, got `{s}`");
+    };
+    Ok(Window { x0, y0, x1, y1 })
 }
 
 const LOADING: u8 = 0;

@@ -7,8 +7,8 @@ use appel::io::mitsuba::XmlOptions;
 use appel::scene::builtin::builtin_scene;
 use appel::scene::parse::Syntax;
 use appel::scene::{
-    description_from_str, frame_model, is_xml, load_description, load_xml_description,
-    model_description, validate, Description, Scene, SceneOptions,
+    description_from_str, is_xml, load_description, load_xml_description, model_description,
+    validate, view_model, Description, Scene, SceneOptions,
 };
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -31,6 +31,10 @@ pub struct ViewArgs {
     /// Override camera.fov (vertical, degrees).
     #[arg(long)]
     pub fov: Option<f32>,
+    /// View a glTF file through its camera N (0-based, in node order); by default its first
+    /// camera, or automatic framing if it has none.
+    #[arg(long, value_name = "N")]
+    pub camera: Option<usize>,
 }
 
 impl ViewArgs {
@@ -90,7 +94,7 @@ pub fn load_scene(
     xml: &XmlOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
 ) -> Result<(Scene, Duration)> {
-    load_scene_with(name, xml, adjust, SceneOptions::default())
+    load_scene_with(name, xml, adjust, SceneOptions::default(), None)
 }
 
 /// [`load_scene`] with progress reports and cancellation while files load and structures build.
@@ -101,6 +105,7 @@ pub fn load_scene_with(
     xml: &XmlOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
     options: SceneOptions,
+    camera: Option<usize>,
 ) -> Result<(Scene, Duration)> {
     let start = Instant::now();
     let (mut description, base_dir, is_model) = read_scene_or_model(name, xml)?;
@@ -108,14 +113,39 @@ pub fn load_scene_with(
     check(&description)?;
     crate::memory::check_memory(&description, &base_dir)?;
     let parse_time = start.elapsed();
+    if camera.is_some() && !is_model {
+        bail!(
+            "--camera picks a camera of a glTF file; `{}` is a scene, whose camera is its own",
+            name.unwrap_or("whitted")
+        );
+    }
     let mut scene = Scene::new_with(&description, &base_dir, options)?;
+    for w in &scene.from_files.warnings {
+        eprintln!("warning: {w}");
+    }
     if is_model {
-        let mut framed = frame_model(&description, scene.geometry.bounds());
-        adjust(&mut framed)?;
-        check(&framed)?;
+        let framed = model_view(&scene, &description, camera, &adjust)?;
         scene.set_view(&framed)?;
+        scene.settings.integrator = framed.render.integrator;
+        scene.settings.spp = framed.render.spp;
+        scene.settings.max_depth = framed.render.max_depth;
     }
     Ok((scene, parse_time))
+}
+
+/// The library's view of a mesh file (see `appel::scene::view_model`), then the command line's
+/// overrides.
+fn model_view(
+    scene: &Scene,
+    description: &Description,
+    camera: Option<usize>,
+    adjust: &impl Fn(&mut Description) -> Result<()>,
+) -> Result<Description> {
+    let mut framed =
+        view_model(scene, description, camera).map_err(|e| anyhow!("--camera: {e}"))?;
+    adjust(&mut framed)?;
+    check(&framed)?;
+    Ok(framed)
 }
 
 fn check(d: &Description) -> Result<()> {
@@ -134,18 +164,25 @@ fn read_scene_or_model(
         bail!("-D sets parameters of a Mitsuba 3 XML scene (.xml); `{name}` is not one");
     }
     if is_mesh_file(path) {
-        let file = path
+        // An archive's entry (`x.zip:dir/m.obj`) is named relative to the archive's folder.
+        let archive = appel::io::assets::archive_path(path);
+        let file_path = archive.as_ref().map_or(path, |a| a.archive.as_path());
+        let file = file_path
             .file_name()
             .and_then(|f| f.to_str())
             .ok_or_else(|| anyhow!("`{name}`: the file name is not valid UTF-8"))?;
-        if !path.is_file() {
-            bail!("{name}: no such mesh file");
+        let file = match archive.as_ref().and_then(|a| a.inner.as_deref()) {
+            Some(inner) => format!("{file}:{inner}"),
+            None => file.to_string(),
+        };
+        if !file_path.is_file() {
+            bail!("{}: no such mesh file", file_path.display());
         }
-        let base_dir = match path.parent() {
+        let base_dir = match file_path.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        return Ok((model_description(file), base_dir, true));
+        return Ok((model_description(&file), base_dir, true));
     }
     if Syntax::from_path(path).is_none() && !path.exists() {
         if let Some(text) = builtin_scene(name) {

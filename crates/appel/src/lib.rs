@@ -6,6 +6,7 @@
 //! Nothing in a lower layer names anything of a higher one, and nothing here knows about the command line.
 
 pub mod accel;
+pub mod api;
 pub mod bench;
 pub mod bench_frames;
 pub mod error;

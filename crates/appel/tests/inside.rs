@@ -138,3 +138,26 @@ fn real_manifold_mesh_agrees_with_the_winding_number() {
         "{checked} checked, {inside_count} inside"
     );
 }
+
+/// Points a millionth inside and outside each vertex, edge midpoint and face centre of an
+/// icosahedron: rays from them meet the surface within their own rounding, and the winding number
+/// must take over (the parity vote alone called the vertex points outside).
+#[test]
+fn points_a_millionth_from_an_icosahedron_surface() {
+    let mesh = icosphere(0);
+    let tester = InsideTester::new(&mesh);
+    let mut features: Vec<Vec3> = mesh.positions.clone();
+    for t in &mesh.indices {
+        let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+        features.extend([
+            (a + b) * 0.5,
+            (b + c) * 0.5,
+            (c + a) * 0.5,
+            (a + b + c) / 3.0,
+        ]);
+    }
+    for f in features {
+        assert!(tester.is_inside(f * (1.0 - 1e-6)), "{f} inside");
+        assert!(!tester.is_inside(f * (1.0 + 1e-6)), "{f} outside");
+    }
+}

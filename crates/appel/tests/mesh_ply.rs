@@ -9,7 +9,8 @@ use std::path::Path;
 
 const HEADER_TAIL: &str = "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
 
-/// A unit square as a quad plus a lone triangle, with normals and a skipped extra property.
+/// A unit square as a quad plus a lone triangle, with normals and extra vertex and face properties
+/// (read as attributes, Mitsuba's `vertex_red` and `face_flags`).
 fn ascii() -> Vec<u8> {
     b"ply\nformat ascii 1.0\ncomment test\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nelement face 2\nproperty list uchar int vertex_indices\nproperty int flags\nend_header\n0 0 0 0 0 1 255\n1 0 0 0 0 1 255\n1 1 0 0 0 1 255\n0 1 0 0 0 1 255\n0 0 1 0 0 1 0\n4 0 1 2 3 7\n3 0 1 4 9\n".to_vec()
 }
@@ -36,24 +37,24 @@ fn binary(big: bool) -> Vec<u8> {
         [0., 1., 0.],
         [0., 0., 1.],
     ];
-    for v in verts {
+    for (v, red) in verts.into_iter().zip([255u8, 255, 255, 255, 0]) {
         for x in v {
             put(&mut out, big, &x.to_le_bytes());
         }
         for n in [0f32, 0.0, 1.0] {
             put(&mut out, big, &n.to_le_bytes());
         }
-        out.push(7);
+        out.push(red);
     }
     out.push(2); // edge: list of 2 shorts
     put(&mut out, big, &5i16.to_le_bytes());
     put(&mut out, big, &6i16.to_le_bytes());
-    for face in [&[0u32, 1, 2, 3][..], &[0, 1, 4]] {
+    for (face, flags) in [(&[0u32, 1, 2, 3][..], 7i32), (&[0, 1, 4], 9)] {
         put(&mut out, big, &(face.len() as u16).to_le_bytes());
         for &i in face {
             put(&mut out, big, &i.to_le_bytes());
         }
-        put(&mut out, big, &0i32.to_le_bytes());
+        put(&mut out, big, &flags.to_le_bytes());
     }
     out
 }
@@ -106,6 +107,19 @@ fn check_square_mesh(m: &LoadedMesh) {
 fn ascii_and_both_binary_encodings_read_the_same_mesh() {
     let a = parse(&ascii()).unwrap();
     check_square_mesh(&a);
+    // Face values follow the quad into both triangles of its fan.
+    let values: Vec<(&str, &[f32])> = a
+        .attributes
+        .iter()
+        .map(|x| (x.name.as_str(), &x.data[..]))
+        .collect();
+    assert_eq!(
+        values,
+        [
+            ("vertex_red", &[255.0, 255.0, 255.0, 255.0, 0.0][..]),
+            ("face_flags", &[7.0, 7.0, 9.0][..])
+        ]
+    );
     let le = parse(&binary(false)).unwrap();
     let be = parse(&binary(true)).unwrap();
     assert_eq!(a, le);

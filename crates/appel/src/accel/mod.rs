@@ -32,7 +32,7 @@ use crate::math::{Aabb, Ray, Vec3};
 /// the wide BVH (`appel bench TARGET --accel bvh --embree --threads 1`, alternating runs): 10^6
 /// scattered triangles (51 MB) 20-27% faster on incoherent rays and 3-5% on camera rays, the 10M
 /// city (534 MB) 3-4% and 5-8%; the ogre (6.9 MB) within noise; the bunny (3.9 MB) 3% slower on
-/// camera rays (session 4).
+/// camera rays (2026-11-25).
 pub(crate) const PREFETCH_BYTES: usize = 16 << 20;
 
 /// Asks for the cache lines of `bytes` bytes at `p` to be brought into the cache. Never faults.

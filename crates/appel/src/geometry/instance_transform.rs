@@ -99,6 +99,7 @@ impl InstanceTransform {
             ns: normal(si.ns),
             uv: si.uv,
             dpdu: linear * si.dpdu,
+            dpdv: linear * si.dpdv,
         }
     }
 
@@ -170,6 +171,7 @@ mod tests {
             ns: n,
             uv: glam::Vec2::ZERO,
             dpdu: Vec3::ZERO,
+            dpdv: Vec3::ZERO,
         };
         let w = x.interaction_to_world(&si);
         let tangent = x.to_world.transform_vector3(Vec3::new(1.0, -1.0, 0.0));

@@ -96,29 +96,32 @@ impl TriangleMesh {
             None => [Vec2::ZERO, Vec2::X, Vec2::Y],
         };
         let uv = b0 * uvs[0] + b1 * uvs[1] + b2 * uvs[2];
+        let (dpdu, dpdv) = dpduv([p0, p1, p2], uvs);
         SurfaceInteraction {
             p,
             p_error,
             n,
             ns,
             uv,
-            dpdu: dpdu([p0, p1, p2], uvs),
+            dpdu,
+            dpdv,
         }
     }
 }
 
-/// dp/du of a triangle from its vertices and texture coordinates: the solution of
+/// dp/du and dp/dv of a triangle from its vertices and texture coordinates: the solution of
 /// `[dp02 dp12] = [dpdu dpdv] [duv02 duv12]` (pbrt-v4 section 6.5.3). Zero when the texture
 /// coordinates are degenerate.
-fn dpdu(p: [Vec3; 3], uv: [Vec2; 3]) -> Vec3 {
+fn dpduv(p: [Vec3; 3], uv: [Vec2; 3]) -> (Vec3, Vec3) {
     let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
     let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
     let det = duv02.x * duv12.y - duv02.y * duv12.x;
     let dpdu = (duv12.y * dp02 - duv02.y * dp12) / det;
-    if det != 0.0 && dpdu.is_finite() {
-        dpdu
+    let dpdv = (duv02.x * dp12 - duv12.x * dp02) / det;
+    if det != 0.0 && dpdu.is_finite() && dpdv.is_finite() {
+        (dpdu, dpdv)
     } else {
-        Vec3::ZERO
+        (Vec3::ZERO, Vec3::ZERO)
     }
 }
 
@@ -134,11 +137,14 @@ mod tests {
             Vec3::new(0.0, 3.0, 0.0),
         ];
         let uv = [Vec2::ZERO, Vec2::X, Vec2::Y];
-        assert_eq!(dpdu(p, uv), Vec3::new(2.0, 0.0, 0.0));
+        assert_eq!(
+            dpduv(p, uv),
+            (Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 3.0, 0.0))
+        );
         // u running along the second edge, at half the rate.
         let uv = [Vec2::ZERO, Vec2::Y, Vec2::new(0.5, 0.0)];
-        assert_eq!(dpdu(p, uv), Vec3::new(0.0, 6.0, 0.0));
+        assert_eq!(dpduv(p, uv).0, Vec3::new(0.0, 6.0, 0.0));
         // Degenerate texture coordinates: no direction.
-        assert_eq!(dpdu(p, [Vec2::ONE; 3]), Vec3::ZERO);
+        assert_eq!(dpduv(p, [Vec2::ONE; 3]), (Vec3::ZERO, Vec3::ZERO));
     }
 }

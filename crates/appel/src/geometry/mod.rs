@@ -70,4 +70,6 @@ pub struct SurfaceInteraction {
     /// `SurfaceInteraction::initialize_sh_frame` does, so anisotropic BSDFs and normal maps are
     /// oriented by the texture coordinates.
     pub dpdu: Vec3,
+    /// The derivative along `v` (zero where `dpdu` is), which bump maps need.
+    pub dpdv: Vec3,
 }

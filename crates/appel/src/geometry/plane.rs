@@ -112,6 +112,7 @@ impl Plane {
             ns: self.normal,
             uv: Vec2::new(p.dot(self.tangent), p.dot(self.bitangent)),
             dpdu: self.tangent,
+            dpdv: self.bitangent,
         }
     }
 }

@@ -117,8 +117,17 @@ impl Sphere {
             n,
             ns: n,
             uv,
-            // d/dphi of the point at longitude phi = atan2(n.z, n.x), times the radius.
-            dpdu: Vec3::new(-local.z, 0.0, local.x),
+            // u and v are arc lengths: dp/du and dp/dv are the unit tangents along longitude phi
+            // and colatitude theta (zero at the poles, where they are undefined).
+            dpdu: Vec3::new(-n.z, 0.0, n.x),
+            dpdv: {
+                let sin_theta = (n.x * n.x + n.z * n.z).sqrt();
+                if sin_theta > 0.0 {
+                    Vec3::new(n.y * n.x / sin_theta, -sin_theta, n.y * n.z / sin_theta)
+                } else {
+                    Vec3::ZERO
+                }
+            },
         }
     }
 }

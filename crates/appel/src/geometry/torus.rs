@@ -147,6 +147,8 @@ impl Torus {
             dpdu: self
                 .world(DVec3::new(-on_surface.z, 0.0, on_surface.x))
                 .as_vec3(),
+            // Not needed by anything the torus is used with; no bump mapping across the tube.
+            dpdv: Vec3::ZERO,
         }
     }
 }

@@ -72,6 +72,7 @@ impl ObjectTransform {
             ns: normal(si.ns),
             uv: si.uv,
             dpdu: linear * si.dpdu,
+            dpdv: linear * si.dpdv,
         }
     }
 }
@@ -110,6 +111,7 @@ mod tests {
             ns: n,
             uv: glam::Vec2::ZERO,
             dpdu: Vec3::ZERO,
+            dpdv: Vec3::ZERO,
         };
         let w = x.interaction_to_world(&si);
         assert!(w.n.dot(Vec3::new(4.0, -1.0, 0.0)).abs() < 1e-6);

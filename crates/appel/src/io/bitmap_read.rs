@@ -46,9 +46,15 @@ pub fn srgb_to_linear(v: f32) -> f32 {
 /// formats are linear already and `raw` does not change them.
 pub fn read_bitmap(path: &Path, raw: bool) -> Result<Bitmap> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    decode_bitmap(&bytes, path, raw)
+}
+
+/// [`read_bitmap`] of an image already in memory (embedded in a glTF file, or in a zip archive);
+/// `path` names it in errors.
+pub fn decode_bitmap(bytes: &[u8], path: &Path, raw: bool) -> Result<Bitmap> {
     let bad = |message: String| Error::input(Location::file(path), message);
     if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
-        return read_exr(&bytes).map_err(|m| bad(format!("not a readable OpenEXR image: {m}")));
+        return read_exr(bytes).map_err(|m| bad(format!("not a readable OpenEXR image: {m}")));
     }
     let format = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
         ImageFormat::Png
@@ -63,7 +69,7 @@ pub fn read_bitmap(path: &Path, raw: bool) -> Result<Bitmap> {
             "not an image Appel reads (expected PNG, JPEG, BMP, OpenEXR or Radiance HDR)".into(),
         ));
     };
-    let image = image::load_from_memory_with_format(&bytes, format)
+    let image = image::load_from_memory_with_format(bytes, format)
         .map_err(|e| bad(format!("not a readable {format:?} image: {e}")))?;
     Ok(from_dynamic(image, !raw))
 }

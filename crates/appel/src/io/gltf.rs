@@ -3,49 +3,70 @@
 //! Every triangle-mode primitive of every mesh instanced in the default scene (or the first scene,
 //! or every root node if the file has no scene) becomes one part, transformed by its node's world
 //! matrix. A mesh that several nodes place is read once, into [`LoadedMesh::shared`], and each
-//! node becomes a placement of it (an instance in the scene) instead of a copy. Its material's base colour factor becomes the part's diffuse colour (alpha -> opacity);
-//! textures are not read. Buffers are loaded here rather than by `gltf::import`, so that a missing
-//! `.bin` gives an error naming it, and no image decoder is pulled in.
+//! node becomes a placement of it (an instance in the scene) instead of a copy. Materials are read
+//! whole (metallic-roughness, textures with their samplers, texture coordinate sets and
+//! `KHR_texture_transform`, alpha modes, and the `KHR_materials_*` extensions listed in
+//! `docs/meshes.md`) into [`FileMaterial`]s, whose images are read here and decoded when the scene
+//! is built. Lights (`KHR_lights_punctual`) and cameras placed by nodes come out in world space.
+//! Buffers and images are loaded here rather than by `gltf::import`, so that a missing `.bin`
+//! gives an error naming it (a missing image is a warning: the model renders without it).
 //!
 //! The `gltf` crate's accessor readers slice and index without checking that an accessor fits its
 //! buffer or has the expected type (they assume validated data), so every accessor is checked here
 //! before it is read.
 
-use super::mesh_file::{transform_mesh, FileMaterial, LoadedMesh, MeshPart, SharedPlacement};
+use super::assets::Assets;
+use super::mesh_file::{
+    transform_mesh, AlphaMode, FileCamera, FileImage, FileMaterial, FileTexture, LoadedMesh,
+    MeshPart, PbrParams, SharedPlacement,
+};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};
+use crate::scene::description::{CameraDesc, CameraKind, LightDesc};
+use crate::shading::texture::{Filter, Wrap};
 use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Gltf, Node};
 use base64::Engine;
-use glam::Mat4;
+use glam::{Mat3, Mat4, Vec3 as GVec3};
 use std::collections::HashMap;
 use std::path::Path;
+use std::path::PathBuf;
+use std::sync::Arc;
 
 /// Deeper node hierarchies are refused: real files are a few levels deep, and a cycle (which the
 /// `gltf` crate's validation does not catch) would otherwise recurse forever.
 const MAX_DEPTH: usize = 256;
 
-/// External buffers are read from files relative to the glTF file.
+/// External buffers and images are read from files relative to the glTF file.
 pub fn parse_gltf(data: &[u8], path: &Path) -> Result<LoadedMesh> {
-    parse_gltf_with(data, path, &|uri| {
-        let file = path.parent().unwrap_or(Path::new(".")).join(uri);
-        std::fs::read(&file).map_err(|e| {
-            if e.kind() == std::io::ErrorKind::NotFound {
-                format!("the buffer file `{}` does not exist", file.display())
-            } else {
-                format!("cannot read the buffer file `{}`: {e}", file.display())
-            }
-        })
-    })
+    parse_gltf_from(data, path, &Assets::beside(path))
 }
 
-/// `external(uri)` supplies a buffer that is neither embedded nor a data URI.
+/// External buffers and images come from `assets` (a folder or a zip archive); `path` names the
+/// file in messages.
+pub fn parse_gltf_from(data: &[u8], path: &Path, assets: &Assets) -> Result<LoadedMesh> {
+    parse(data, path, &|uri| assets.read(uri), &|uri| assets.name(uri))
+}
+
+/// `external(uri)` supplies a buffer or image that is neither embedded nor a data URI.
 pub fn parse_gltf_with(
     data: &[u8],
     path: &Path,
     external: &dyn Fn(&str) -> std::result::Result<Vec<u8>, String>,
+) -> Result<LoadedMesh> {
+    let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    parse(data, path, external, &|uri| dir.join(uri))
+}
+
+type External<'a> = &'a dyn Fn(&str) -> std::result::Result<Vec<u8>, String>;
+
+fn parse(
+    data: &[u8],
+    path: &Path,
+    external: External,
+    namer: &dyn Fn(&str) -> PathBuf,
 ) -> Result<LoadedMesh> {
     let err = |msg: String| Error::input(Location::file(path), msg);
     let raw =
@@ -145,10 +166,17 @@ pub fn parse_gltf_with(
         uses: &uses,
         shared_index: HashMap::new(),
         triangles: 0,
+        external,
+        namer,
+        image_ids: HashMap::new(),
+        uv_sets: vec![],
+        document: &gltf.document,
     };
     for node in roots {
         ctx.node(&node, Mat4::IDENTITY, 0)?;
     }
+    out.warnings
+        .extend(super::mesh_file::unreadable_images(&out.images));
     Ok(out)
 }
 
@@ -177,6 +205,13 @@ struct Ctx<'a> {
     shared_index: HashMap<usize, u32>,
     /// Triangles so far in the file's order (placements of shared meshes included).
     triangles: u32,
+    external: External<'a>,
+    namer: &'a dyn Fn(&str) -> PathBuf,
+    /// The file's image index -> index in `out.images`.
+    image_ids: HashMap<usize, u32>,
+    /// The texture coordinate set of each material in `out.materials`.
+    uv_sets: Vec<u32>,
+    document: &'a ::gltf::Document,
 }
 
 impl Ctx<'_> {
@@ -199,6 +234,12 @@ impl Ctx<'_> {
                 node.index()
             )));
         }
+        if let Some(light) = node.light() {
+            self.light(&light, world);
+        }
+        if let Some(camera) = node.camera() {
+            self.camera(&camera, world, node);
+        }
         if let Some(mesh) = node.mesh().filter(|m| self.uses.get(&m.index()) > Some(&1)) {
             let index = match self.shared_index.get(&mesh.index()) {
                 Some(&i) => i,
@@ -209,8 +250,8 @@ impl Ctx<'_> {
                             continue;
                         }
                         let what = format!("mesh {} primitive {}", mesh.index(), prim.index());
-                        let tm = self.primitive(&prim, &what)?;
-                        let material = self.material(&prim.material());
+                        let material = self.material(&prim.material())?;
+                        let tm = self.primitive(&prim, &what, self.uv_set(material))?;
                         parts.push(MeshPart {
                             mesh: tm,
                             material,
@@ -239,14 +280,14 @@ impl Ctx<'_> {
                     continue;
                 }
                 let what = format!("mesh {} primitive {}", mesh.index(), prim.index());
-                let mut tm = self.primitive(&prim, &what)?;
+                let material = self.material(&prim.material())?;
+                let mut tm = self.primitive(&prim, &what, self.uv_set(material))?;
                 transform_mesh(&mut tm, world);
                 if !tm.positions.iter().all(|p| p.is_finite()) {
                     return Err(
                         self.err(format!("{what}: a vertex position is not a finite number"))
                     );
                 }
-                let material = self.material(&prim.material());
                 // Parts number their triangles from where they stand in the file's order, which
                 // placements of shared meshes may interleave.
                 let count = tm.triangle_count() as u32;
@@ -266,25 +307,327 @@ impl Ctx<'_> {
         Ok(())
     }
 
-    fn material(&mut self, m: &::gltf::Material) -> Option<u32> {
+    fn uv_set(&self, material: Option<u32>) -> u32 {
+        material.map_or(0, |m| self.uv_sets[m as usize])
+    }
+
+    fn material(&mut self, m: &::gltf::Material) -> Result<Option<u32>> {
         if let Some(&id) = self.material_ids.get(&m.index()) {
-            return id;
+            return Ok(id);
         }
         // A primitive without a material uses the scene's default.
-        let id = m.index().map(|i| {
-            let [r, g, b, a] = m.pbr_metallic_roughness().base_color_factor();
-            self.out.materials.push(FileMaterial {
-                name: m
-                    .name()
-                    .map_or_else(|| format!("material {i}"), str::to_string),
-                diffuse: [r, g, b],
-                opacity: a,
-                ..Default::default()
-            });
-            self.out.materials.len() as u32 - 1
-        });
+        let Some(i) = m.index() else {
+            self.material_ids.insert(None, None);
+            return Ok(None);
+        };
+        let (fm, uv_set) = self.read_material(m, i)?;
+        self.out.materials.push(fm);
+        self.uv_sets.push(uv_set);
+        let id = Some(self.out.materials.len() as u32 - 1);
         self.material_ids.insert(m.index(), id);
-        id
+        Ok(id)
+    }
+
+    /// A glTF material as a [`FileMaterial`], with the texture coordinate set its textures read
+    /// (that of the base colour texture, else of the first texture it has: Appel's meshes carry
+    /// one set).
+    fn read_material(&mut self, m: &::gltf::Material, i: usize) -> Result<(FileMaterial, u32)> {
+        let pbr = m.pbr_metallic_roughness();
+        let [r, g, b, a] = pbr.base_color_factor();
+        let what = format!("material {i}");
+        let mut sets: Vec<u32> = vec![];
+        let mut info =
+            |ctx: &mut Self, t: Option<::gltf::texture::Info>| -> Result<Option<FileTexture>> {
+                let Some(t) = t else { return Ok(None) };
+                let transform = t.texture_transform();
+                let set = transform
+                    .as_ref()
+                    .and_then(|x| x.tex_coord())
+                    .unwrap_or(t.tex_coord());
+                sets.push(set);
+                let to_uv = transform.map_or(Mat3::IDENTITY, |x| {
+                    texture_transform(x.offset(), x.rotation(), x.scale())
+                });
+                ctx.texture(&t.texture(), set, to_uv, &what).map(Some)
+            };
+        let diffuse_map = info(self, pbr.base_color_texture())?;
+        let metallic_roughness_map = info(self, pbr.metallic_roughness_texture())?;
+        let emissive_map = info(self, m.emissive_texture())?;
+        let transmission = m.transmission();
+        let transmission_map = info(
+            self,
+            transmission.as_ref().and_then(|t| t.transmission_texture()),
+        )?;
+        let normal_map = match m.normal_texture() {
+            Some(n) => {
+                sets.push(n.tex_coord());
+                Some((
+                    self.texture(&n.texture(), n.tex_coord(), Mat3::IDENTITY, &what)?,
+                    n.scale(),
+                ))
+            }
+            None => None,
+        };
+        let occlusion_map = match m.occlusion_texture() {
+            Some(o) => {
+                sets.push(o.tex_coord());
+                Some(self.texture(&o.texture(), o.tex_coord(), Mat3::IDENTITY, &what)?)
+            }
+            None => None,
+        };
+        // KHR_materials_clearcoat: not in the gltf crate's typed API; read from the JSON.
+        let clearcoat = m.extension_value("KHR_materials_clearcoat");
+        let number = |key: &str, default: f32| {
+            clearcoat
+                .and_then(|c| c.get(key))
+                .and_then(|v| v.as_f64())
+                .map_or(default, |v| v as f32)
+        };
+        let mut json_texture = |ctx: &mut Self, key: &str| -> Result<Option<FileTexture>> {
+            let Some(t) = clearcoat.and_then(|c| c.get(key)) else {
+                return Ok(None);
+            };
+            let index = t.get("index").and_then(|v| v.as_u64());
+            let texture = index.and_then(|i| ctx.document.textures().nth(i as usize));
+            let Some(texture) = texture else {
+                return Err(ctx.err(format!(
+                    "{what}: KHR_materials_clearcoat.{key} names no texture of the file"
+                )));
+            };
+            let set = t.get("texCoord").and_then(|v| v.as_u64()).unwrap_or(0) as u32;
+            sets.push(set);
+            ctx.texture(&texture, set, Mat3::IDENTITY, &what).map(Some)
+        };
+        let clearcoat_map = json_texture(self, "clearcoatTexture")?;
+        let clearcoat_roughness_map = json_texture(self, "clearcoatRoughnessTexture")?;
+        let specular = m.specular();
+        let strength = m.emissive_strength().unwrap_or(1.0);
+        let params = PbrParams {
+            metallic: pbr.metallic_factor(),
+            roughness: pbr.roughness_factor(),
+            metallic_roughness_map,
+            occlusion_map,
+            emissive: m.emissive_factor().map(|e| e * strength),
+            emissive_map,
+            transmission: transmission
+                .as_ref()
+                .map_or(0.0, |t| t.transmission_factor()),
+            transmission_map,
+            clearcoat: number("clearcoatFactor", 0.0),
+            clearcoat_map,
+            clearcoat_roughness: number("clearcoatRoughnessFactor", 0.0),
+            clearcoat_roughness_map,
+            specular: specular.as_ref().map_or(1.0, |s| s.specular_factor()),
+            specular_color: specular
+                .as_ref()
+                .map_or([1.0; 3], |s| s.specular_color_factor()),
+            double_sided: m.double_sided(),
+        };
+        let uv_set = diffuse_map
+            .as_ref()
+            .map(|t| t.uv_set)
+            .or(sets.first().copied())
+            .unwrap_or(0);
+        let alpha = match m.alpha_mode() {
+            ::gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            ::gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
+            ::gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        };
+        let fm = FileMaterial {
+            name: m
+                .name()
+                .map_or_else(|| format!("material {i}"), str::to_string),
+            diffuse: [r, g, b],
+            opacity: a,
+            ior: m.ior().unwrap_or(1.5),
+            diffuse_map,
+            alpha,
+            normal_map,
+            pbr: Some(Box::new(params)),
+            ..Default::default()
+        };
+        Ok((fm, uv_set))
+    }
+
+    /// A texture's image (read once per file) and sampler.
+    fn texture(
+        &mut self,
+        t: &::gltf::Texture,
+        uv_set: u32,
+        to_uv: Mat3,
+        what: &str,
+    ) -> Result<FileTexture> {
+        use ::gltf::texture::{MagFilter, WrappingMode};
+        let image = t.source();
+        let index = match self.image_ids.get(&image.index()) {
+            Some(&i) => i,
+            None => {
+                let file = self.image(&image, what)?;
+                self.out.images.push(file);
+                let i = self.out.images.len() as u32 - 1;
+                self.image_ids.insert(image.index(), i);
+                i
+            }
+        };
+        let sampler = t.sampler();
+        // One wrap mode for both axes: wrapS decides (files almost always set both alike).
+        let wrap = match sampler.wrap_s() {
+            WrappingMode::ClampToEdge => Wrap::Clamp,
+            WrappingMode::MirroredRepeat => Wrap::Mirror,
+            WrappingMode::Repeat => Wrap::Repeat,
+        };
+        // Magnification decides; minification filters (mipmaps) have no equivalent here.
+        let filter = match sampler.mag_filter() {
+            Some(MagFilter::Nearest) => Filter::Nearest,
+            _ => Filter::Bilinear,
+        };
+        Ok(FileTexture {
+            image: index,
+            uv_set,
+            wrap,
+            filter,
+            to_uv,
+        })
+    }
+
+    fn image(&self, image: &::gltf::Image, what: &str) -> Result<FileImage> {
+        let i = image.index();
+        match image.source() {
+            ::gltf::image::Source::View { view, .. } => {
+                let bytes = self.buffers.get(view.buffer().index()).and_then(|b| {
+                    let end = view.offset().checked_add(view.length())?;
+                    b.get(view.offset()..end)
+                });
+                let bytes = bytes.ok_or_else(|| {
+                    self.err(format!(
+                        "{what}: image {i}: buffer view {} lies outside its buffer",
+                        view.index()
+                    ))
+                })?;
+                Ok(FileImage {
+                    name: PathBuf::from(format!("{} (image {i})", self.path.display())),
+                    bytes: Ok(Arc::new(bytes.to_vec())),
+                })
+            }
+            ::gltf::image::Source::Uri { uri, .. } => {
+                if let Some(rest) = uri.strip_prefix("data:") {
+                    let (_, payload) = rest.split_once(";base64,").ok_or_else(|| {
+                        self.err(format!("image {i}: only base64 data URIs are supported"))
+                    })?;
+                    let bytes = base64::engine::general_purpose::STANDARD
+                        .decode(payload)
+                        .map_err(|e| self.err(format!("image {i}: bad base64 data: {e}")))?;
+                    return Ok(FileImage {
+                        name: PathBuf::from(format!("{} (image {i})", self.path.display())),
+                        bytes: Ok(Arc::new(bytes)),
+                    });
+                }
+                if uri.contains("://") {
+                    return Err(self.err(format!(
+                        "image {i}: `{uri}` is not a local file; only relative paths and data URIs are supported"
+                    )));
+                }
+                let uri = percent_decode(uri);
+                Ok(FileImage {
+                    name: (self.namer)(&uri),
+                    bytes: (self.external)(&uri).map(Arc::new),
+                })
+            }
+        }
+    }
+
+    /// A `KHR_lights_punctual` light at `world`: it shines along the node's -z. Intensities are
+    /// taken as radiometric (candela as W/sr, lux as W/m^2): Appel's images have no exposure, so a
+    /// constant factor such as 683 lm/W would only rescale them. `range` is ignored (the
+    /// specification allows renderers to).
+    fn light(&mut self, light: &::gltf::khr_lights_punctual::Light, world: Mat4) {
+        use ::gltf::khr_lights_punctual::Kind;
+        let position = world.transform_point3(GVec3::ZERO);
+        let axis = world.transform_vector3(-GVec3::Z).normalize_or_zero();
+        let (color, intensity) = (light.color(), light.intensity());
+        if !(position.is_finite() && axis != GVec3::ZERO && intensity.is_finite()) {
+            self.out.warnings.push(format!(
+                "light {}: its node's transform or its intensity is degenerate; it is left out",
+                light.index()
+            ));
+            return;
+        }
+        let l = match light.kind() {
+            Kind::Directional => LightDesc::Directional {
+                direction: axis.into(),
+                color,
+                intensity,
+            },
+            Kind::Point => LightDesc::Point {
+                position: position.into(),
+                color,
+                intensity,
+            },
+            Kind::Spot {
+                inner_cone_angle,
+                outer_cone_angle,
+            } => {
+                let outer = outer_cone_angle.to_degrees().clamp(0.01, 90.0);
+                LightDesc::Spot {
+                    position: position.into(),
+                    look_at: (position + axis).into(),
+                    color,
+                    intensity,
+                    cutoff_angle: outer,
+                    beam_width: Some(inner_cone_angle.to_degrees().clamp(0.0, outer)),
+                    up: None,
+                    texture: None,
+                }
+            }
+        };
+        self.out.lights.push(l);
+    }
+
+    /// A glTF camera at `world`: it looks along the node's -z with +y up.
+    fn camera(&mut self, camera: &::gltf::Camera, world: Mat4, node: &Node) {
+        use ::gltf::camera::Projection;
+        let eye = world.transform_point3(GVec3::ZERO);
+        let forward = world.transform_vector3(-GVec3::Z).normalize_or_zero();
+        let up = world.transform_vector3(GVec3::Y).normalize_or_zero();
+        let name = camera
+            .name()
+            .or(node.name())
+            .map_or_else(|| format!("camera {}", camera.index()), str::to_string);
+        if !eye.is_finite() || forward == GVec3::ZERO || up == GVec3::ZERO {
+            self.out.warnings.push(format!(
+                "{name}: its node's transform is degenerate; the camera is left out"
+            ));
+            return;
+        }
+        let base = CameraDesc {
+            eye: eye.into(),
+            look_at: (eye + forward).into(),
+            up: up.into(),
+            ..CameraDesc::default()
+        };
+        let (camera, aspect) = match camera.projection() {
+            Projection::Perspective(p) => (
+                CameraDesc {
+                    fov: p.yfov().to_degrees().clamp(0.01, 179.0),
+                    near_clip: p.znear().max(0.0),
+                    ..base
+                },
+                p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0),
+            ),
+            Projection::Orthographic(o) => (
+                CameraDesc {
+                    kind: CameraKind::Orthographic,
+                    half_width: Some(o.xmag().abs().max(1e-6)),
+                    ..base
+                },
+                (o.ymag() != 0.0).then(|| (o.xmag() / o.ymag()).abs()),
+            ),
+        };
+        self.out.cameras.push(FileCamera {
+            name,
+            camera,
+            aspect,
+        });
     }
 
     /// Checks that `a` has one of the allowed element types and lies inside its buffer, so that the
@@ -331,7 +674,7 @@ impl Ctx<'_> {
         }
     }
 
-    fn primitive(&self, prim: &::gltf::Primitive, what: &str) -> Result<TriangleMesh> {
+    fn primitive(&self, prim: &::gltf::Primitive, what: &str, uv_set: u32) -> Result<TriangleMesh> {
         use DataType::{F32, U16, U32, U8};
         use Dimensions::Scalar;
         let (vec2, vec3) = (Dimensions::Vec2, Dimensions::Vec3);
@@ -359,15 +702,15 @@ impl Ctx<'_> {
             }
             _ => None,
         };
-        let uvs = match prim.get(&::gltf::Semantic::TexCoords(0)) {
+        let uvs = match prim.get(&::gltf::Semantic::TexCoords(uv_set)) {
             Some(a) if a.count() == nv => {
                 self.check(
                     &a,
                     &[(vec2, F32), (vec2, U8), (vec2, U16)],
-                    &format!("{what} TEXCOORD_0"),
+                    &format!("{what} TEXCOORD_{uv_set}"),
                 )?;
                 reader
-                    .read_tex_coords(0)
+                    .read_tex_coords(uv_set)
                     .map(|it| it.into_f32().map(Vec2::from).collect::<Vec<_>>())
             }
             _ => None,
@@ -400,6 +743,22 @@ impl Ctx<'_> {
             uvs,
         })
     }
+}
+
+/// `KHR_texture_transform`'s matrix, translation * rotation * scale acting on (u, v, 1). The
+/// rotation is u' = cos u + sin v, v' = -sin u + cos v: counter-clockwise in uv space with v
+/// pointing down, which is what the sample model TextureTransformTest and the implementations
+/// agree on (the extension's GLSL listing has the opposite sign: KhronosGroup/glTF issue 1563).
+pub fn texture_transform(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> Mat3 {
+    let (s, c) = rotation.sin_cos();
+    let t = Mat3::from_cols_array_2d(&[
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [offset[0], offset[1], 1.0],
+    ]);
+    let r = Mat3::from_cols_array_2d(&[[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]);
+    let sc = Mat3::from_diagonal(glam::Vec3::new(scale[0], scale[1], 1.0));
+    t * r * sc
 }
 
 /// `%20` and friends in relative URIs.

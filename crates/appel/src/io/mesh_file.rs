@@ -1,15 +1,20 @@
 //! Triangle meshes from files: the common result type and the entry point that picks a reader by the
 //! file's extension (`.ply`, `.obj`, `.gltf`, `.glb`, and `.ply.gz` / `.obj.gz`).
 
+use super::assets::{archive_path, open_archive, Assets};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Aabb, Vec3};
+use crate::scene::description::{CameraDesc, LightDesc};
+use crate::shading::texture::{Filter, Wrap};
 use glam::{Mat3, Mat4};
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-/// A material as a mesh file states it, before it is mapped onto Appel's model (see
-/// `docs/meshes.md`): OBJ's MTL `Kd Ks Ns Ni d`, or glTF's base colour factor.
+/// A material as a mesh file states it, before it is mapped onto Appel's materials (see
+/// `docs/meshes.md`): OBJ's MTL (`Kd Ks Ns Ni d` and their maps), or glTF's metallic-roughness
+/// material with its extensions.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FileMaterial {
     pub name: String,
@@ -19,10 +24,28 @@ pub struct FileMaterial {
     pub specular: [f32; 3],
     /// Phong exponent (MTL `Ns`).
     pub shininess: f32,
-    /// Index of refraction (MTL `Ni`).
+    /// Index of refraction (MTL `Ni`, glTF `KHR_materials_ior`).
     pub ior: f32,
     /// Opacity (MTL `d`, glTF base colour alpha); 1 is opaque.
     pub opacity: f32,
+    /// Multiplies `diffuse` (MTL `map_Kd`, glTF `baseColorTexture`, whose alpha multiplies
+    /// `opacity`).
+    pub diffuse_map: Option<FileTexture>,
+    /// MTL `map_Ks`, multiplying `specular`.
+    pub specular_map: Option<FileTexture>,
+    /// MTL `map_Ns`: a grey image scaling `shininess`.
+    pub shininess_map: Option<FileTexture>,
+    /// MTL `map_d`: opacity from the image's alpha channel if it has one, else its grey value.
+    pub opacity_map: Option<FileTexture>,
+    /// How opacity is used: MTL files blend (any `d < 1` or `map_d`), glTF says.
+    pub alpha: AlphaMode,
+    /// Tangent-space normal map (glTF `normalTexture`, MTL `norm`), with its strength. Read so
+    /// that it can be applied by a normal-mapping material; not applied here.
+    pub normal_map: Option<(FileTexture, f32)>,
+    /// Height map (MTL `bump` / `map_bump`, with `-bm` strength). Read, not applied.
+    pub bump_map: Option<(FileTexture, f32)>,
+    /// glTF's physically based parameters; `None` for MTL materials.
+    pub pbr: Option<Box<PbrParams>>,
 }
 
 impl Default for FileMaterial {
@@ -34,8 +57,98 @@ impl Default for FileMaterial {
             shininess: 32.0,
             ior: 1.5,
             opacity: 1.0,
+            diffuse_map: None,
+            specular_map: None,
+            shininess_map: None,
+            opacity_map: None,
+            alpha: AlphaMode::Opaque,
+            normal_map: None,
+            bump_map: None,
+            pbr: None,
         }
     }
+}
+
+/// glTF's `alphaMode`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored.
+    #[default]
+    Opaque,
+    /// The surface is there where alpha >= the cutoff, absent elsewhere.
+    Mask(f32),
+    /// Alpha is the surface's coverage.
+    Blend,
+}
+
+/// glTF 2.0's metallic-roughness material and the `KHR_materials_*` extensions Appel reads; factors
+/// multiply their textures as the specification says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PbrParams {
+    pub metallic: f32,
+    pub roughness: f32,
+    /// Roughness in G, metalness in B (linear).
+    pub metallic_roughness_map: Option<FileTexture>,
+    /// Ambient occlusion in R: read, not used (a path tracer computes occlusion itself).
+    pub occlusion_map: Option<FileTexture>,
+    /// `emissiveFactor` times `KHR_materials_emissive_strength`.
+    pub emissive: [f32; 3],
+    pub emissive_map: Option<FileTexture>,
+    /// `KHR_materials_transmission` (R of its texture).
+    pub transmission: f32,
+    pub transmission_map: Option<FileTexture>,
+    /// `KHR_materials_clearcoat`: its factor (R of its texture) and roughness (G of its texture).
+    pub clearcoat: f32,
+    pub clearcoat_map: Option<FileTexture>,
+    pub clearcoat_roughness: f32,
+    pub clearcoat_roughness_map: Option<FileTexture>,
+    /// `KHR_materials_specular`: `specularFactor` and `specularColorFactor` (their textures are
+    /// read, not used).
+    pub specular: f32,
+    pub specular_color: [f32; 3],
+    pub double_sided: bool,
+}
+
+impl Default for PbrParams {
+    fn default() -> Self {
+        Self {
+            metallic: 1.0,
+            roughness: 1.0,
+            metallic_roughness_map: None,
+            occlusion_map: None,
+            emissive: [0.0; 3],
+            emissive_map: None,
+            transmission: 0.0,
+            transmission_map: None,
+            clearcoat: 0.0,
+            clearcoat_map: None,
+            clearcoat_roughness: 0.0,
+            clearcoat_roughness_map: None,
+            specular: 1.0,
+            specular_color: [1.0; 3],
+            double_sided: false,
+        }
+    }
+}
+
+/// A texture of a mesh file's material: one of the file's images and how it is looked up.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FileTexture {
+    /// Index into [`LoadedMesh::images`].
+    pub image: u32,
+    /// The texture coordinate set (glTF `TEXCOORD_n`; 0 for OBJ).
+    pub uv_set: u32,
+    pub wrap: Wrap,
+    pub filter: Filter,
+    /// Applied to (u, v, 1) before the lookup (`KHR_texture_transform`, MTL `-o`/`-s`).
+    pub to_uv: Mat3,
+}
+
+/// An image a mesh file refers to: its name, and its bytes or why they could not be read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FileImage {
+    pub name: PathBuf,
+    pub bytes: std::result::Result<Arc<Vec<u8>>, String>,
 }
 
 /// One group of triangles sharing a material. `primid` of a hit is the triangle's index inside its
@@ -61,6 +174,36 @@ pub struct LoadedMesh {
     pub shared: Vec<Vec<MeshPart>>,
     /// Where each shared mesh is placed, in the file's node order.
     pub placements: Vec<SharedPlacement>,
+    /// The images the materials' textures read.
+    pub images: Vec<FileImage>,
+    /// The file's lights (glTF `KHR_lights_punctual`), in world space.
+    pub lights: Vec<LightDesc>,
+    /// The file's cameras (glTF), in world space, in node order.
+    pub cameras: Vec<FileCamera>,
+    /// Problems that do not stop the file from rendering (a texture that cannot be found).
+    pub warnings: Vec<String>,
+    /// Named per-vertex and per-triangle values (PLY's extra properties) of a file read as one
+    /// part; textures read them by name (Mitsuba's `mesh_attribute`).
+    pub attributes: Vec<MeshAttribute>,
+}
+
+/// A camera placed by a mesh file: where it is and what it sees. `aspect` is the width over the
+/// height the file asks for, if any.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FileCamera {
+    pub name: String,
+    pub camera: CameraDesc,
+    pub aspect: Option<f32>,
+}
+
+/// Values given per vertex (interpolated over triangles) or per triangle.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshAttribute {
+    pub name: String,
+    pub per_face: bool,
+    pub channels: usize,
+    /// `channels` values per vertex or per triangle.
+    pub data: Vec<f32>,
 }
 
 /// One placement of a shared mesh.
@@ -137,6 +280,60 @@ impl LoadedMesh {
         for p in &mut self.placements {
             p.to_world = m * p.to_world;
         }
+        for l in &mut self.lights {
+            transform_light(l, m);
+        }
+        for c in &mut self.cameras {
+            let cam = &mut c.camera;
+            let eye = m.transform_point3(cam.eye.into());
+            let look = m.transform_point3(cam.look_at.into());
+            cam.up = m
+                .transform_vector3(cam.up.into())
+                .normalize_or_zero()
+                .into();
+            cam.eye = eye.into();
+            cam.look_at = look.into();
+        }
+    }
+}
+
+/// One warning for the images that could not be read: the materials using them render with their
+/// factors alone.
+pub(crate) fn unreadable_images(images: &[FileImage]) -> Vec<String> {
+    let bad: Vec<&String> = images
+        .iter()
+        .filter_map(|i| i.bytes.as_ref().err())
+        .collect();
+    match bad.as_slice() {
+        [] => vec![],
+        [one] => vec![format!(
+            "texture {one}; the materials using it render without it"
+        )],
+        [first, rest @ ..] => vec![format!(
+            "{} textures cannot be read (the first: {first}); the materials using them render without them",
+            rest.len() + 1
+        )],
+    }
+}
+
+/// Moves a light placed by a file along with the file's transform.
+pub(crate) fn transform_light(l: &mut LightDesc, m: Mat4) {
+    let p = |v: &mut [f32; 3]| *v = m.transform_point3((*v).into()).into();
+    match l {
+        LightDesc::Point { position, .. } => p(position),
+        LightDesc::Spot {
+            position, look_at, ..
+        } => {
+            p(position);
+            p(look_at);
+        }
+        LightDesc::Directional { direction, .. } => {
+            *direction = m
+                .transform_vector3((*direction).into())
+                .normalize_or_zero()
+                .into()
+        }
+        _ => {}
     }
 }
 
@@ -190,20 +387,36 @@ impl MeshFormat {
     }
 }
 
-/// Whether `path` names a mesh file Appel can read (by its extension).
+/// Whether `path` names a mesh file Appel can read (by its extension), or a zip archive to find
+/// one in.
 pub fn is_mesh_file(path: &Path) -> bool {
-    MeshFormat::from_path(path).is_some()
+    MeshFormat::from_path(path).is_some() || archive_path(path).is_some()
 }
 
-/// Reads a mesh file. Errors name the file and the line (text formats) or byte offset (binary; for
+/// Reads a mesh file, or the mesh file in a zip archive (`x.zip`, `x.zip:inner/path`; see
+/// [`super::assets`]). Errors name the file and the line (text formats) or byte offset (binary; for
 /// `.gz` files the offset is into the decompressed data). A file without triangles is an error.
 pub fn load_mesh(path: &Path) -> Result<LoadedMesh> {
+    if let Some(archive) = archive_path(path) {
+        let (inner, bytes, assets) = open_archive(&archive, |n| is_mesh_file(Path::new(n)))?;
+        let name = PathBuf::from(format!("{}:{inner}", archive.archive.display()));
+        let (format, gz) = MeshFormat::from_path(Path::new(&inner)).ok_or_else(|| {
+            Error::input(
+                Location::file(&name),
+                "not a mesh file Appel reads: expected .ply, .obj, .gltf, .glb, .ply.gz or .obj.gz",
+            )
+        })?;
+        let bytes = if gz { gunzip(&bytes, &name)? } else { bytes };
+        let loaded = parse_mesh_bytes(format, &bytes, &name, &assets)?;
+        return check_not_empty(loaded, &name);
+    }
     let (format, gz) = MeshFormat::from_path(path).ok_or_else(|| {
         Error::input(
             Location::file(path),
-            "unknown mesh file extension: expected .ply, .obj, .gltf, .glb, .ply.gz or .obj.gz",
+            "unknown mesh file extension: expected .ply, .obj, .gltf, .glb, .ply.gz or .obj.gz (or a .zip holding one)",
         )
     })?;
+    let assets = Assets::beside(path);
     let loaded = match (format, gz) {
         (MeshFormat::Ply, false) => {
             let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
@@ -218,21 +431,35 @@ pub fn load_mesh(path: &Path) -> Result<LoadedMesh> {
                 super::ply::parse_ply(&map, path)?
             }
         }
-        (MeshFormat::Ply, true) => super::ply::parse_ply(&read_gz(path)?, path)?,
-        (MeshFormat::Obj, gz) => {
-            let bytes = if gz {
-                read_gz(path)?
-            } else {
-                std::fs::read(path).map_err(|e| Error::io(path, e))?
-            };
-            super::obj::parse_obj(&bytes, path, &super::obj::FsMtl)?
-        }
-        (MeshFormat::Gltf, _) => {
+        (format, gz) => {
             let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-            super::gltf::parse_gltf(&bytes, path)?
+            let bytes = if gz { gunzip(&bytes, path)? } else { bytes };
+            parse_mesh_bytes(format, &bytes, path, &assets)?
         }
     };
     check_not_empty(loaded, path)
+}
+
+/// Whether `path` names a mesh file that exists, or an archive that exists (its entry is checked
+/// when it is read).
+pub fn mesh_source_exists(path: &Path) -> bool {
+    match archive_path(path) {
+        Some(a) => a.archive.is_file(),
+        None => path.is_file(),
+    }
+}
+
+fn parse_mesh_bytes(
+    format: MeshFormat,
+    bytes: &[u8],
+    name: &Path,
+    assets: &Assets,
+) -> Result<LoadedMesh> {
+    match format {
+        MeshFormat::Ply => super::ply::parse_ply(bytes, name),
+        MeshFormat::Obj => super::obj::parse_obj(bytes, name, assets),
+        MeshFormat::Gltf => super::gltf::parse_gltf_from(bytes, name, assets),
+    }
 }
 
 pub(crate) fn check_not_empty(loaded: LoadedMesh, path: &Path) -> Result<LoadedMesh> {
@@ -245,10 +472,9 @@ pub(crate) fn check_not_empty(loaded: LoadedMesh, path: &Path) -> Result<LoadedM
     Ok(loaded)
 }
 
-fn read_gz(path: &Path) -> Result<Vec<u8>> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+fn gunzip(bytes: &[u8], path: &Path) -> Result<Vec<u8>> {
     let mut out = Vec::new();
-    flate2::read::MultiGzDecoder::new(std::io::BufReader::new(file))
+    flate2::read::MultiGzDecoder::new(bytes)
         .read_to_end(&mut out)
         .map_err(|e| {
             Error::input(

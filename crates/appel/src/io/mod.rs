@@ -1,6 +1,7 @@
 //! Input readers: triangle meshes (PLY, OBJ, glTF), placement and point lists. Writers are in
 //! `output`.
 
+pub mod assets;
 pub mod bitmap_read;
 pub mod gltf;
 pub mod mesh_file;
@@ -10,4 +11,7 @@ pub mod placements;
 pub mod ply;
 pub mod points;
 
-pub use mesh_file::{is_mesh_file, load_mesh, FileMaterial, LoadedMesh, MeshPart, SharedPlacement};
+pub use mesh_file::{
+    is_mesh_file, load_mesh, mesh_source_exists, AlphaMode, FileCamera, FileImage, FileMaterial,
+    FileTexture, LoadedMesh, MeshPart, PbrParams, SharedPlacement,
+};

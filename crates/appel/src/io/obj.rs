@@ -12,17 +12,39 @@
 //! in file order. A `mtllib` that cannot be found is ignored (its materials fall back to the scene's
 //! default), since OBJ files are often shared without their MTL.
 
-use super::mesh_file::{FileMaterial, LoadedMesh, MeshPart};
+use super::assets::Assets;
+use super::mesh_file::{AlphaMode, FileImage, FileMaterial, FileTexture, LoadedMesh, MeshPart};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};
+use crate::shading::texture::{Filter, Wrap};
+use glam::Mat3;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-/// Where MTL files come from: the file system next to the OBJ, or nowhere (tests, fuzzing).
+/// Where MTL files and textures come from: the file system next to the OBJ, a zip archive, or
+/// nowhere (tests, fuzzing).
 pub trait MtlSource {
     /// The MTL file `name` referenced by `obj`, with the path to name in errors, or `None` if absent.
     fn read(&self, obj: &Path, name: &str) -> Option<(PathBuf, Vec<u8>)>;
+
+    /// The texture `name` an MTL file of `obj` refers to: its path for messages, and its bytes or
+    /// why they cannot be read.
+    fn texture(&self, obj: &Path, name: &str) -> (PathBuf, std::result::Result<Vec<u8>, String>) {
+        let path = obj.parent().unwrap_or(Path::new(".")).join(name);
+        (path, Err(format!("`{name}` cannot be read here")))
+    }
+}
+
+impl MtlSource for Assets {
+    fn read(&self, _: &Path, name: &str) -> Option<(PathBuf, Vec<u8>)> {
+        Assets::read(self, name).ok().map(|b| (self.name(name), b))
+    }
+
+    fn texture(&self, _: &Path, name: &str) -> (PathBuf, std::result::Result<Vec<u8>, String>) {
+        (self.name(name), Assets::read(self, name))
+    }
 }
 
 /// Reads MTL files relative to the OBJ file's folder.
@@ -32,6 +54,10 @@ impl MtlSource for FsMtl {
     fn read(&self, obj: &Path, name: &str) -> Option<(PathBuf, Vec<u8>)> {
         let path = obj.parent().unwrap_or(Path::new(".")).join(name);
         std::fs::read(&path).ok().map(|b| (path, b))
+    }
+
+    fn texture(&self, obj: &Path, name: &str) -> (PathBuf, std::result::Result<Vec<u8>, String>) {
+        Assets::beside(obj).texture(obj, name)
     }
 }
 
@@ -153,6 +179,8 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
     let mut vt: Vec<Vec2> = vec![];
     let mut vn: Vec<Vec3> = vec![];
     let mut materials: Vec<FileMaterial> = vec![];
+    let mut images: Vec<FileImage> = vec![];
+    let mut image_ids: HashMap<PathBuf, u32> = HashMap::new();
     let mut material_ids: HashMap<String, u32> = HashMap::new();
     let mut parts: Vec<PartBuilder> = vec![];
     let mut part_of: HashMap<Option<u32>, usize> = HashMap::new();
@@ -228,7 +256,37 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
             "mtllib" => {
                 for name in &args {
                     if let Some((mtl_path, bytes)) = mtl.read(path, name) {
-                        for m in parse_mtl(&bytes, &mtl_path)? {
+                        let (mut found, maps) = parse_mtl_with_maps(&bytes, &mtl_path)?;
+                        // The MTL's image names -> the file's images, each read once.
+                        let ids: Vec<u32> = maps
+                            .iter()
+                            .map(|m| {
+                                let (name, bytes) = mtl.texture(path, m);
+                                *image_ids.entry(name.clone()).or_insert_with(|| {
+                                    images.push(FileImage {
+                                        name,
+                                        bytes: bytes.map(Arc::new),
+                                    });
+                                    images.len() as u32 - 1
+                                })
+                            })
+                            .collect();
+                        for m in &mut found {
+                            for t in [
+                                &mut m.diffuse_map,
+                                &mut m.specular_map,
+                                &mut m.shininess_map,
+                                &mut m.opacity_map,
+                            ]
+                            .into_iter()
+                            .flatten()
+                            .chain(m.normal_map.as_mut().map(|t| &mut t.0))
+                            .chain(m.bump_map.as_mut().map(|t| &mut t.0))
+                            {
+                                t.image = ids[t.image as usize];
+                            }
+                        }
+                        for m in found {
                             material_ids.insert(m.name.clone(), materials.len() as u32);
                             materials.push(m);
                         }
@@ -251,9 +309,12 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
             }
         })
         .collect();
+    let warnings = super::mesh_file::unreadable_images(&images);
     Ok(LoadedMesh {
         parts,
         materials,
+        images,
+        warnings,
         ..Default::default()
     })
 }
@@ -392,8 +453,18 @@ pub fn triangulate(points: &[Vec3], out: &mut Vec<[usize; 3]>) {
 }
 
 /// MTL: `newmtl`, `Kd`, `Ks`, `Ns`, `Ni`, `d` (and `Tr = 1 - d`); other statements are ignored.
+/// Texture maps are read by [`parse_mtl_with_maps`].
 pub fn parse_mtl(data: &[u8], path: &Path) -> Result<Vec<FileMaterial>> {
+    parse_mtl_with_maps(data, path).map(|(m, _)| m)
+}
+
+/// [`parse_mtl`], with `map_Kd`, `map_Ks`, `map_Ns`, `map_d`, `bump`/`map_bump` and `norm`: their
+/// [`FileTexture::image`] index the returned list of image names (as written, relative to the
+/// MTL's folder). Options `-o` and `-s` (uv offset and scale), `-clamp` and `-bm` (bump strength)
+/// are read; the others are skipped with their values.
+pub fn parse_mtl_with_maps(data: &[u8], path: &Path) -> Result<(Vec<FileMaterial>, Vec<String>)> {
     let mut out: Vec<FileMaterial> = vec![];
+    let mut names: Vec<String> = vec![];
     for item in text_lines(data, path) {
         let (line, text) = item?;
         let mut words = text.split_ascii_whitespace();
@@ -408,7 +479,10 @@ pub fn parse_mtl(data: &[u8], path: &Path) -> Result<Vec<FileMaterial>> {
             });
             continue;
         }
-        let known = ["Kd", "Ks", "Ns", "Ni", "d", "Tr"];
+        let known = [
+            "Kd", "Ks", "Ns", "Ni", "d", "Tr", "map_Kd", "map_Ks", "map_Ns", "map_d", "bump",
+            "map_bump", "map_Bump", "norm",
+        ];
         if !known.contains(&keyword) {
             continue;
         }
@@ -419,6 +493,29 @@ pub fn parse_mtl(data: &[u8], path: &Path) -> Result<Vec<FileMaterial>> {
                 format!("`{keyword}` before any `newmtl`"),
             ));
         };
+        if keyword.starts_with("map_") || keyword == "bump" || keyword == "norm" {
+            let (file, texture, strength) = texture_statement(&args, path, line, keyword)?;
+            let image = match names.iter().position(|n| *n == file) {
+                Some(i) => i,
+                None => {
+                    names.push(file);
+                    names.len() - 1
+                }
+            } as u32;
+            let t = FileTexture { image, ..texture };
+            match keyword {
+                "map_Kd" => m.diffuse_map = Some(t),
+                "map_Ks" => m.specular_map = Some(t),
+                "map_Ns" => m.shininess_map = Some(t),
+                "map_d" => {
+                    m.opacity_map = Some(t);
+                    m.alpha = AlphaMode::Blend;
+                }
+                "norm" => m.normal_map = Some((t, strength)),
+                _ => m.bump_map = Some((t, strength)),
+            }
+            continue;
+        }
         match keyword {
             "Kd" | "Ks" => {
                 let c = numbers::<3>(&args, 1, path, line, keyword)?;
@@ -439,6 +536,102 @@ pub fn parse_mtl(data: &[u8], path: &Path) -> Result<Vec<FileMaterial>> {
             "d" => m.opacity = numbers::<1>(&args, 1, path, line, keyword)?[0].clamp(0.0, 1.0),
             _ => m.opacity = 1.0 - numbers::<1>(&args, 1, path, line, keyword)?[0].clamp(0.0, 1.0),
         }
+        if m.opacity < 1.0 {
+            m.alpha = AlphaMode::Blend;
+        }
     }
-    Ok(out)
+    Ok((out, names))
+}
+
+/// `map_Kd [options] file`: the file name (which may hold spaces), the lookup and the `-bm`
+/// strength (1 by default).
+fn texture_statement(
+    args: &[&str],
+    path: &Path,
+    line: usize,
+    keyword: &str,
+) -> Result<(String, FileTexture, f32)> {
+    let mut offset = [0.0f32; 2];
+    let mut scale = [1.0f32; 2];
+    let mut wrap = Wrap::Repeat;
+    let mut strength = 1.0;
+    let mut i = 0;
+    let is_number = |w: &str| w.parse::<f32>().is_ok();
+    while i < args.len() && args[i].starts_with('-') && args[i].len() > 1 && !is_number(args[i]) {
+        let option = args[i];
+        i += 1;
+        // Up to three numbers for -o -s -t; one value for the rest; two for -mm.
+        let values = match option {
+            "-o" | "-s" | "-t" => {
+                let mut n = 0;
+                while n < 3 && i + n < args.len() - 1 && is_number(args[i + n]) {
+                    n += 1;
+                }
+                n
+            }
+            "-mm" => 2,
+            _ => 1,
+        };
+        if i + values > args.len() {
+            return Err(line_error(
+                path,
+                line,
+                format!("`{keyword}`: option `{option}` needs a value"),
+            ));
+        }
+        let v = &args[i..i + values];
+        let num = |k: usize| -> Result<f32> {
+            let x = v.get(k).map_or(Ok(f32::NAN), |w| w.parse::<f32>());
+            match x {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(line_error(
+                    path,
+                    line,
+                    format!("`{keyword}`: option `{option}` needs a number"),
+                )),
+            }
+        };
+        match option {
+            "-o" if values > 0 => {
+                offset[0] = num(0)?;
+                offset[1] = if values > 1 { num(1)? } else { 0.0 };
+            }
+            "-s" if values > 0 => {
+                scale[0] = num(0)?;
+                scale[1] = if values > 1 { num(1)? } else { 1.0 };
+            }
+            "-clamp" => {
+                wrap = if v[0] == "on" {
+                    Wrap::Clamp
+                } else {
+                    Wrap::Repeat
+                }
+            }
+            "-bm" => strength = num(0)?,
+            _ => {}
+        }
+        i += values;
+    }
+    if i >= args.len() {
+        return Err(line_error(
+            path,
+            line,
+            format!("`{keyword}` needs a file name"),
+        ));
+    }
+    // -o and -s act on OBJ's uv, whose v this reader flips (v' = 1 - v): in flipped coordinates
+    // u -> s_u u + o_u and v' -> s_v v' + (1 - s_v - o_v).
+    let to_uv = Mat3::from_cols_array_2d(&[
+        [scale[0], 0.0, 0.0],
+        [0.0, scale[1], 0.0],
+        [offset[0], 1.0 - scale[1] - offset[1], 1.0],
+    ]);
+    let texture = FileTexture {
+        image: 0,
+        uv_set: 0,
+        wrap,
+        filter: Filter::Bilinear,
+        to_uv,
+    };
+    Ok((args[i..].join(" "), texture, strength))
 }

@@ -243,6 +243,7 @@ pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
             }
         }
     }
+    let attributes = attributes::read_attributes(data, path, &header, out.indices.len())?;
     let mesh = TriangleMesh {
         positions: out.positions,
         indices: out.indices,
@@ -255,9 +256,13 @@ pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
             material: None,
             file_triangles: None,
         }],
+        attributes,
         ..Default::default()
     })
 }
+
+#[path = "ply_attributes.rs"]
+mod attributes;
 
 #[derive(Default)]
 struct Output {

@@ -14,7 +14,7 @@ pub struct Aovs {
     pub shape_id: bool,
     pub prim_id: bool,
     pub instance_id: bool,
-    /// Monte Carlo renders: the variance of each pixel's estimate (`variance.R/G/B`).
+    /// The variance of each pixel's estimate (`variance.R/G/B`), from the spread of its samples.
     pub variance: bool,
 }
 
@@ -180,7 +180,7 @@ pub fn write_exr(path: &Path, film: &Film, aovs: Aovs) -> Result<()> {
     if aovs.variance {
         if film.variance.len() != film.rgb.len() {
             return Err(Error::Invalid(
-                "the variance AOV needs a Monte Carlo integrator (path or direct)".into(),
+                "the variance AOV needs a rendered film (this one has no variance)".into(),
             ));
         }
         channels.push(AnyChannel::new("variance.R", f32s(&|i| film.variance[i].x)));

@@ -1,12 +1,18 @@
 //! Point-in-mesh by ray parity: a point is inside a closed surface if a ray from it crosses the surface
 //! an odd number of times (the Jordan-Brouwer separation theorem). A single ray can be fooled where it
 //! grazes an edge or a vertex tangentially (counting one crossing where the surface merely touches), so
-//! three rays in unrelated directions vote and the majority wins.
+//! three rays in unrelated directions vote and the majority wins. Where the vote cannot be trusted
+//! (the rays disagree, or one meets the surface so near its start that the crossing may lie within
+//! the hit's rounding error, as for a point a millionth inside a vertex) the generalized winding
+//! number decides instead (`winding.rs`).
 
+use super::closest::ClosestPoint;
+use super::winding::winding_number;
 use crate::accel::{Accel, AccelKind, MeshPrimitives, TraversalStats};
 use crate::geometry::{PrimHit, TriangleMesh};
 use crate::math::{offset_ray_origin, Aabb, Ray, Vec3};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// Three directions far from the axes and from each other, so that no two rays of a vote are likely to
 /// graze the same edge of an axis-aligned or regular mesh.
@@ -26,36 +32,70 @@ const MAX_CROSSINGS: usize = 1 << 16;
 /// times; the answer for a mesh with holes is the majority parity, which is well-defined but not
 /// meaningful.
 pub struct InsideTester<'a> {
-    prims: MeshPrimitives<'a>,
+    mesh: Cow<'a, TriangleMesh>,
     accel: Accel,
+    closest: ClosestPoint,
     bounds: Aabb,
+    /// A point nearer than this to the surface goes to the winding number.
+    near: f32,
 }
+
+/// A point nearer the surface than this fraction of the mesh's size (plus of the point's distance
+/// from the origin, which sets its own rounding) may see its rays' crossings lost in their
+/// rounding (the triangle test rejects hits within its error bound of the origin, so a ray from
+/// a millionth inside a vertex crosses nothing). The margin is generous by orders of magnitude
+/// over the float error: the winding number it hands such points to is right everywhere, only
+/// slower.
+const NEAR_FRACTION: f32 = 1e-4;
 
 impl<'a> InsideTester<'a> {
     pub fn new(mesh: &'a TriangleMesh) -> Self {
-        let prims = MeshPrimitives::new(mesh);
-        let accel = Accel::build(AccelKind::default(), &prims);
+        Self::with_mesh(Cow::Borrowed(mesh))
+    }
+
+    /// A tester that keeps the mesh.
+    pub fn owning(mesh: TriangleMesh) -> InsideTester<'static> {
+        InsideTester::with_mesh(Cow::Owned(mesh))
+    }
+
+    fn with_mesh(mesh: Cow<'a, TriangleMesh>) -> Self {
+        let accel = Accel::build(AccelKind::default(), &MeshPrimitives::new(&mesh));
+        let closest = ClosestPoint::new(&mesh);
+        let bounds = mesh.bounds();
+        let near = NEAR_FRACTION * (bounds.max - bounds.min).length();
         Self {
-            prims,
+            mesh,
             accel,
-            bounds: mesh.bounds(),
+            closest,
+            bounds,
+            near,
         }
+    }
+
+    pub fn mesh(&self) -> &TriangleMesh {
+        &self.mesh
+    }
+
+    /// The nearest point of the mesh to `p`.
+    pub fn closest(&self, p: glam::DVec3) -> Option<super::Closest> {
+        self.closest.closest(&self.mesh, p)
     }
 
     /// Number of times the ray from `p` along `dir` crosses the surface. Each crossing is followed by a
     /// new ray from the hit point, offset past the surface by its error bound, so a ray through a
     /// shared edge counts the crossing once, not once per triangle.
     fn crossings(&self, p: Vec3, dir: Vec3) -> usize {
+        let prims = MeshPrimitives::new(&self.mesh);
         let mut ray = Ray::new(p, dir);
         let mut stats = TraversalStats::default();
         for count in 0..MAX_CROSSINGS {
             let Some(hit) = self
                 .accel
-                .intersect(&self.prims, &ray, f32::INFINITY, &mut stats)
+                .intersect(&prims, &ray, f32::INFINITY, &mut stats)
             else {
                 return count;
             };
-            let si = self.prims.mesh.interaction(
+            let si = self.mesh.interaction(
                 hit.prim as usize,
                 &PrimHit {
                     t: hit.t,
@@ -73,11 +113,22 @@ impl<'a> InsideTester<'a> {
         if !self.bounds.contains(p) || !p.is_finite() {
             return false;
         }
-        let votes = directions()
-            .into_iter()
-            .filter(|&d| self.crossings(p, d) % 2 == 1)
-            .count();
-        votes >= 2
+        let near = (self.near + NEAR_FRACTION * p.abs().max_element()) as f64;
+        let far = self
+            .closest
+            .closest(&self.mesh, p.as_dvec3())
+            .is_some_and(|c| c.distance > near);
+        if far {
+            let votes: usize = directions()
+                .into_iter()
+                .map(|d| self.crossings(p, d) % 2)
+                .sum();
+            // A split vote means some ray grazed an edge or a vertex: the winding number settles it.
+            if votes == 0 || votes == 3 {
+                return votes == 3;
+            }
+        }
+        winding_number(&self.mesh, p.as_dvec3()) > 0.5
     }
 
     /// Answers for many points, in parallel.

@@ -1,3 +1,4 @@
+use super::film_block::{FilmBlock, PixelSums};
 use crate::math::Vec3;
 
 /// Primitive and shape ids of pixels whose camera ray hit nothing.
@@ -19,7 +20,8 @@ pub struct Film {
     /// The instance hit (`[[instance]]` placements in file order); [`MISS_ID`] for misses and for
     /// surfaces that are not instanced.
     pub instance_id: Vec<u32>,
-    /// Monte Carlo renders: the variance of each pixel's estimate, per channel (empty otherwise).
+    /// The variance of each pixel's estimate, per channel, from the spread of its samples (zero
+    /// at one sample per pixel; empty in films not rendered, such as [`Film::new`]'s).
     pub variance: Vec<Vec3>,
 }
 
@@ -59,32 +61,21 @@ impl Film {
         }
     }
 
-    /// An empty film with room for `width * height` pixels, to be filled in row order by
-    /// [`Self::extend`].
-    pub(crate) fn with_capacity(width: u32, height: u32) -> Self {
-        let n = width as usize * height as usize;
+    /// The film of a block of weighted sums: each pixel the weighted mean of its samples, with
+    /// the variance of that mean; `aovs` in the block's row order.
+    pub(crate) fn from_sums(sums: &FilmBlock, aovs: &[PixelAov]) -> Self {
+        debug_assert_eq!(sums.sums.len(), aovs.len());
         Self {
-            width,
-            height,
-            rgb: Vec::with_capacity(n),
-            depth: Vec::with_capacity(n),
-            normal: Vec::with_capacity(n),
-            shape_id: Vec::with_capacity(n),
-            prim_id: Vec::with_capacity(n),
-            instance_id: Vec::with_capacity(n),
-            variance: vec![],
+            width: sums.width,
+            height: sums.height,
+            rgb: sums.sums.iter().map(PixelSums::mean).collect(),
+            depth: aovs.iter().map(|a| a.depth).collect(),
+            normal: aovs.iter().map(|a| a.normal).collect(),
+            shape_id: aovs.iter().map(|a| a.shape_id).collect(),
+            prim_id: aovs.iter().map(|a| a.prim_id).collect(),
+            instance_id: aovs.iter().map(|a| a.instance_id).collect(),
+            variance: sums.sums.iter().map(PixelSums::variance_of_mean).collect(),
         }
-    }
-
-    /// Appends pixels after the last one.
-    pub(crate) fn extend(&mut self, pixels: &[(Vec3, PixelAov)]) {
-        self.rgb.extend(pixels.iter().map(|p| p.0));
-        self.depth.extend(pixels.iter().map(|p| p.1.depth));
-        self.normal.extend(pixels.iter().map(|p| p.1.normal));
-        self.shape_id.extend(pixels.iter().map(|p| p.1.shape_id));
-        self.prim_id.extend(pixels.iter().map(|p| p.1.prim_id));
-        self.instance_id
-            .extend(pixels.iter().map(|p| p.1.instance_id));
     }
 
     pub fn index(&self, x: u32, y: u32) -> usize {

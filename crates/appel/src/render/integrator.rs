@@ -1,27 +1,80 @@
-//! Integrators: what a camera ray brings back. Ray casting (Appel 1968) shades the first hit locally;
-//! Whitted (1980) adds recursively traced reflected and refracted rays.
+//! The interface between the render loop and an integrator: the loop names a pixel and a sample
+//! index and positions the sampler there; the integrator draws the film position from the sampler,
+//! traces its own camera ray and everything after it, and may fill the pixel's AOVs. The loop
+//! only splats what comes back through the reconstruction filter.
 
-use super::optics::{fresnel_dielectric, reflect, refract};
-use super::TraceContext;
+use super::sampler::Sampler;
+use super::{PixelAov, TraceContext};
 use crate::geometry::SurfaceInteraction;
-use crate::math::{offset_ray_origin_to_side, Ray, Vec3};
-use crate::scene::Material;
-use crate::scene::{Light, Scene, SceneHit};
+use crate::math::{Ray, Vec2, Vec3};
+use crate::scene::{Scene, SceneHit};
 
-/// Shadow rays towards a point light stop this fraction short of it (pbrt-v4's `ShadowEpsilon`):
-/// relative to the segment, so it is scale-free.
-const SHADOW_EPSILON: f32 = 1e-4;
+/// What one sample brought back: where on the film it was taken (in pixels, pixel `(i, j)`
+/// spanning `[i, i+1) x [j, j+1)`) and the radiance along its camera ray.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FilmSample {
+    pub pos: Vec2,
+    pub radiance: Vec3,
+}
 
+/// Sample `index` of the pixels `x0, x0 + 1, ...` of row `y` (as many as the caller's output
+/// slice holds).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelRow {
+    pub x0: u32,
+    pub y: u32,
+    pub index: u32,
+}
+
+/// An integrator, monomorphized by the render loop for each sampler: no dynamic dispatch per
+/// ray or per sample.
 pub trait Integrator: Sync {
-    /// Radiance arriving along the camera ray `ray`, whose closest hit and surface `hit` the caller
-    /// already found (see [`surface_hit`]).
-    fn radiance(
+    /// Sample `index` of pixel `(x, y)`, the sampler already started there. `aov`, when given
+    /// (sample 0), receives what the ray through the pixel centre sees first.
+    fn sample<S: Sampler>(
         &self,
         scene: &Scene,
-        ray: &Ray,
-        hit: Option<&SurfaceHit>,
+        x: u32,
+        y: u32,
+        sampler: &mut S,
+        aov: Option<&mut PixelAov>,
         ctx: &mut TraceContext,
-    ) -> Vec3;
+    ) -> FilmSample;
+
+    /// [`Self::sample`] for `out.len()` neighbouring pixels of one row, `out[i]` and `aovs[i]`
+    /// for pixel `row.x0 + i`: the loop's unit of work. An integrator whose camera rays need no
+    /// random numbers after the film position may trace them together (see
+    /// [`Scene::intersect_coherent`]); the results must be those of one sample at a time.
+    fn sample_row<S: Sampler>(
+        &self,
+        scene: &Scene,
+        row: PixelRow,
+        sampler: &mut S,
+        out: &mut [FilmSample],
+        mut aovs: Option<&mut [PixelAov]>,
+        ctx: &mut TraceContext,
+    ) {
+        for (i, o) in out.iter_mut().enumerate() {
+            let x = row.x0 + i as u32;
+            sampler.start_pixel_sample(x, row.y, row.index);
+            let aov = aovs.as_deref_mut().map(|a| &mut a[i]);
+            *o = self.sample(scene, x, row.y, sampler, aov, ctx);
+        }
+    }
+}
+
+/// The current sample's film position in pixel `(x, y)` (its first two dimensions) and the
+/// camera ray through it.
+#[inline]
+pub fn camera_ray<S: Sampler>(scene: &Scene, x: u32, y: u32, sampler: &mut S) -> (Vec2, Ray) {
+    let pos = Vec2::new(x as f32, y as f32) + sampler.get_2d();
+    (pos, scene.camera.ray(pos.x, pos.y))
+}
+
+/// Whether a film position is the centre of pixel `(x, y)`.
+#[inline]
+pub fn is_pixel_centre(pos: Vec2, x: u32, y: u32) -> bool {
+    pos == Vec2::new(x as f32 + 0.5, y as f32 + 0.5)
 }
 
 /// A closest hit with its surface, computed once: the renderer needs the surface for the AOVs of the
@@ -42,233 +95,28 @@ pub fn surface_hit(scene: &Scene, ray: &Ray, hit: SceneHit) -> SurfaceHit {
     }
 }
 
-/// One eye ray per pixel, one shadow ray per light, local shading only.
-pub struct Raycast;
-
-/// Recursive ray tracing to `max_depth` specular bounces.
-pub struct Whitted {
-    pub max_depth: u32,
+/// The AOVs of a surface seen first (or of nothing).
+#[inline]
+pub fn aov_of(scene: &Scene, hit: Option<&SurfaceHit>) -> PixelAov {
+    hit.map_or(PixelAov::MISS, |h| {
+        let (shape_id, prim_id) = scene.geometry.source_ids(&h.hit);
+        PixelAov {
+            depth: h.hit.t,
+            normal: h.si.ns,
+            shape_id,
+            prim_id,
+            instance_id: h.hit.instance,
+        }
+    })
 }
 
-impl Integrator for Raycast {
-    fn radiance(
-        &self,
-        scene: &Scene,
-        ray: &Ray,
-        hit: Option<&SurfaceHit>,
-        ctx: &mut TraceContext,
-    ) -> Vec3 {
-        let Some(h) = hit else {
-            return scene.background;
-        };
-        let mut origins = Origins::new(&h.si);
-        shade_locally(
-            scene,
-            scene.material(&h.hit),
-            &h.si,
-            -ray.dir,
-            &mut origins,
-            ctx,
-        )
-    }
-}
-
-impl Integrator for Whitted {
-    fn radiance(
-        &self,
-        scene: &Scene,
-        ray: &Ray,
-        hit: Option<&SurfaceHit>,
-        ctx: &mut TraceContext,
-    ) -> Vec3 {
-        self.trace(scene, ray, hit, 0, ctx)
-    }
-}
-
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Bounce {
-    Reflection,
-    Refraction,
-}
-
-impl Whitted {
-    fn trace(
-        &self,
-        scene: &Scene,
-        ray: &Ray,
-        hit: Option<&SurfaceHit>,
-        depth: u32,
-        ctx: &mut TraceContext,
-    ) -> Vec3 {
-        let Some(SurfaceHit { hit, si }) = hit else {
-            return scene.background;
-        };
-        let m = scene.material(hit);
-        let wo = -ray.dir;
-        let mut origins = Origins::new(si);
-        let mut color = shade_locally(scene, m, si, wo, &mut origins, ctx);
-        if depth >= self.max_depth || !m.is_specular() {
-            return color;
-        }
-        // Normals on the side the ray arrives from.
-        let entering = ray.dir.dot(si.n) < 0.0;
-        let ns = if si.ns.dot(wo) < 0.0 { -si.ns } else { si.ns };
-        let mut kr = m.reflection;
-        let mut kt = m.transmission;
-        let mut refracted = None;
-        if kt > 0.0 {
-            // eta = n_incident / n_transmitted; the outside is taken to be vacuum (no nested media).
-            let eta = if entering { 1.0 / m.ior } else { m.ior };
-            match refract(ray.dir, ns, eta) {
-                None => {
-                    // Total internal reflection: everything transmitted is reflected instead.
-                    kr += kt;
-                    kt = 0.0;
-                }
-                Some(t) => {
-                    if m.fresnel {
-                        let f = fresnel_dielectric(ns.dot(wo), eta);
-                        kr += kt * f;
-                        kt *= 1.0 - f;
-                    }
-                    refracted = Some(t);
-                }
-            }
-        }
-        if kr > 0.0 {
-            let dir = reflect(ray.dir, ns);
-            let origin = origins.towards(dir);
-            color += kr * self.spawn(scene, origin, dir, depth, Bounce::Reflection, ctx);
-        }
-        if let (Some(dir), true) = (refracted, kt > 0.0) {
-            let origin = origins.towards(dir);
-            color += kt * self.spawn(scene, origin, dir, depth, Bounce::Refraction, ctx);
-        }
-        color
-    }
-
-    fn spawn(
-        &self,
-        scene: &Scene,
-        origin: Vec3,
-        dir: Vec3,
-        depth: u32,
-        kind: Bounce,
-        ctx: &mut TraceContext,
-    ) -> Vec3 {
-        match kind {
-            Bounce::Reflection => ctx.rays.reflection += 1,
-            Bounce::Refraction => ctx.rays.refraction += 1,
-        }
-        let ray = Ray::new(origin, dir);
-        let hit = scene
-            .intersect(&ray, f32::INFINITY, &mut ctx.traversal)
-            .map(|h| surface_hit(scene, &ray, h));
-        self.trace(scene, &ray, hit.as_ref(), depth + 1, ctx)
-    }
-}
-
-/// Whitted's local model: ambient, plus Lambertian diffuse and a Blinn-Phong highlight from every
-/// light a shadow ray reaches. Surfaces are two-sided: normals are turned towards the viewer.
-pub fn local_shading(
-    scene: &Scene,
-    m: &Material,
-    si: &SurfaceInteraction,
-    wo: Vec3,
-    ctx: &mut TraceContext,
-) -> Vec3 {
-    shade_locally(scene, m, si, wo, &mut Origins::new(si), ctx)
-}
-
-/// The origins of the rays leaving one shading point: [`crate::math::offset_ray_origin`] depends on
-/// the direction only through the side of the surface it points to, so each side's origin is
-/// computed at most once and shared by the shadow rays and the reflected and refracted rays.
-struct Origins<'a> {
-    si: &'a SurfaceInteraction,
-    above: Option<Vec3>,
-    below: Option<Vec3>,
-}
-
-impl<'a> Origins<'a> {
-    #[inline]
-    fn new(si: &'a SurfaceInteraction) -> Self {
-        Self {
-            si,
-            above: None,
-            below: None,
-        }
-    }
-
-    /// `offset_ray_origin(si.p, si.p_error, si.n, w)`, the same value.
-    #[inline]
-    fn towards(&mut self, w: Vec3) -> Vec3 {
-        let si = self.si;
-        let below = w.dot(si.n) < 0.0;
-        let slot = if below {
-            &mut self.below
-        } else {
-            &mut self.above
-        };
-        *slot.get_or_insert_with(|| offset_ray_origin_to_side(si.p, si.p_error, si.n, below))
-    }
-}
-
-fn shade_locally(
-    scene: &Scene,
-    m: &Material,
-    si: &SurfaceInteraction,
-    wo: Vec3,
-    origins: &mut Origins,
-    ctx: &mut TraceContext,
-) -> Vec3 {
-    let albedo = m.albedo(si.uv);
-    let mut color = m.ambient * scene.ambient * albedo;
-    if m.diffuse == 0.0 && m.specular == 0.0 {
-        return color;
-    }
-    let wo = wo.normalize();
-    let ns = if si.ns.dot(wo) < 0.0 { -si.ns } else { si.ns };
-    for light in &scene.lights {
-        // Direction and radiance first: the shadow ray is only built for a light that can reach
-        // this side of the surface.
-        let (wi, radiance, target) = match *light {
-            Light::Point {
-                position,
-                intensity,
-            } => {
-                let to_light = position - si.p;
-                let d2 = to_light.length_squared();
-                if d2 == 0.0 {
-                    continue;
-                }
-                (to_light / d2.sqrt(), intensity / d2, Some(position))
-            }
-            Light::Directional {
-                direction,
-                radiance,
-            } => (-direction, radiance, None),
-        };
-        let cos = ns.dot(wi);
-        // A light behind the shading normal, or below the geometric surface, cannot light this side.
-        if cos <= 0.0 || si.n.dot(wi) * si.n.dot(wo) <= 0.0 {
-            continue;
-        }
-        let origin = origins.towards(wi);
-        let (shadow_ray, t_max) = match target {
-            Some(position) => (Ray::new(origin, position - origin), 1.0 - SHADOW_EPSILON),
-            None => (Ray::new(origin, wi), f32::INFINITY),
-        };
-        ctx.rays.shadow += 1;
-        if scene.occluded(&shadow_ray, t_max, &mut ctx.traversal) {
-            continue;
-        }
-        let h = (wi + wo).normalize();
-        let highlight = if m.specular > 0.0 {
-            m.specular * ns.dot(h).max(0.0).powf(m.shininess)
-        } else {
-            0.0
-        };
-        color += radiance * (m.diffuse * cos * albedo + Vec3::splat(highlight));
-    }
-    color
+/// The AOVs of the ray through the centre of pixel `(x, y)`, traced for them alone (integrators
+/// whose samples are not at the centre, or which pass through cut-outs).
+pub fn centre_aov(scene: &Scene, x: u32, y: u32, ctx: &mut TraceContext) -> PixelAov {
+    let ray = scene.camera.pixel_ray(x, y);
+    ctx.rays.camera += 1;
+    let hit = scene
+        .intersect(&ray, f32::INFINITY, &mut ctx.traversal)
+        .map(|h| surface_hit(scene, &ray, h));
+    aov_of(scene, hit.as_ref())
 }

@@ -4,15 +4,15 @@
 //! directly; 2: direct light; -1: unlimited) and of `rr_depth`. The `direct` integrator is the same
 //! estimator stopped after direct light.
 
-use super::progressive::SampleIntegrator;
+use super::integrator::{camera_ray, centre_aov, FilmSample, Integrator, SurfaceHit};
 use super::sampler::Sampler;
-use super::{SurfaceHit, TraceContext};
+use super::{PixelAov, TraceContext};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::scene::{Scene, NO_EMITTER, NO_INSTANCE};
 use crate::shading::bsdf::BsdfFlags;
 use crate::shading::frame::ShadingFrame;
-use crate::shading::material::Material;
+use crate::shading::material::{Material, SurfacePoint};
 
 /// Shadow rays stop this fraction short of the sampled light point, so that the light's own
 /// surface does not occlude it (relative to the segment: scale-free).
@@ -69,8 +69,32 @@ fn mis_weight(a: f32, b: f32) -> f32 {
     }
 }
 
-impl SampleIntegrator for PathTracer {
-    fn li<S: Sampler>(
+impl Integrator for PathTracer {
+    fn sample<S: Sampler>(
+        &self,
+        scene: &Scene,
+        x: u32,
+        y: u32,
+        sampler: &mut S,
+        aov: Option<&mut PixelAov>,
+        ctx: &mut TraceContext,
+    ) -> FilmSample {
+        let (pos, ray) = camera_ray(scene, x, y, sampler);
+        ctx.rays.camera += 1;
+        // The AOVs describe the pixel centre (as opaque surfaces): one more camera ray per pixel.
+        if let Some(aov) = aov {
+            *aov = centre_aov(scene, x, y, ctx);
+        }
+        FilmSample {
+            pos,
+            radiance: self.li(scene, &ray, sampler, ctx),
+        }
+    }
+}
+
+impl PathTracer {
+    /// The radiance arriving along `camera_ray`, estimated from the sampler's numbers.
+    pub fn li<S: Sampler>(
         &self,
         scene: &Scene,
         camera_ray: &Ray,
@@ -133,19 +157,10 @@ impl SampleIntegrator for PathTracer {
                 break;
             }
             let frame = ShadingFrame::from_normal_tangent(si.ns, si.dpdu);
-            let mut wo = frame.to_local(wo_world);
+            let at = SurfacePoint::new(&si, &frame, wo_world, scene.geometry.attributes_at(&h.hit));
+            let wo = at.wo;
             let material = scene.geometry.material(&h.hit);
-            let sb = Material::bsdf(&scene.shading_materials, material, si.uv, wo.z);
-            let bsdf = sb.bsdf;
-            if sb.flipped {
-                wo.z = -wo.z;
-            }
-            let to_world = |mut w: Vec3| {
-                if sb.flipped {
-                    w.z = -w.z;
-                }
-                frame.to_world(w)
-            };
+            let bsdf = Material::bsdf(&scene.shading_materials, material, &at);
             // Next-event estimation: one emitter, chosen by power.
             let u_light = sampler.get_1d();
             let u_dir = sampler.get_2d();
@@ -153,10 +168,7 @@ impl SampleIntegrator for PathTracer {
                 let (e, pmf) = emitters.picker.pick(u_light);
                 let em = &emitters.emitters[e];
                 if let Some(ls) = em.sample_li(si.p, u_dir) {
-                    let mut wi = frame.to_local(ls.wi);
-                    if sb.flipped {
-                        wi.z = -wi.z;
-                    }
+                    let wi = frame.to_local(ls.wi);
                     let (f, bsdf_pdf) = bsdf.eval_pdf(wo, wi);
                     if f != Vec3::ZERO && pmf > 0.0 {
                         let t_max = if ls.dist.is_finite() {
@@ -181,7 +193,7 @@ impl SampleIntegrator for PathTracer {
             let Some(bs) = bsdf.sample(wo, u_lobe, u_bsdf) else {
                 break;
             };
-            let wi_world = to_world(bs.wi);
+            let wi_world = frame.to_world(bs.wi);
             if bs.lobe.contains(BsdfFlags::DIFFUSE_TRANSMISSION)
                 || bs.lobe.contains(BsdfFlags::GLOSSY_TRANSMISSION)
                 || bs.lobe.contains(BsdfFlags::DELTA_TRANSMISSION)

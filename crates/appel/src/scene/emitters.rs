@@ -27,13 +27,26 @@ pub struct SceneEmitters {
 }
 
 impl SceneEmitters {
+    /// `surfaces` are surfaces that emit by their mesh file's material (glTF emission), by
+    /// `Geometry::shapes` index.
     pub fn build(
         d: &Description,
         geometry: &Geometry,
+        surfaces: &[(u32, Texture)],
         textures: &mut TextureCache,
     ) -> Result<Self> {
         let mut emitters = Vec::new();
         let mut of_shape = vec![NO_EMITTER; geometry.shapes.len()];
+        for (shape, radiance) in surfaces {
+            let i = *shape as usize;
+            if i >= of_shape.len() || of_shape[i] != NO_EMITTER {
+                continue;
+            }
+            if let Some(sampler) = triangles_of(geometry, &[i]) {
+                of_shape[i] = emitters.len() as u32;
+                emitters.push(Emitter::Area(AreaEmitter::new(radiance.clone(), sampler)));
+            }
+        }
         for (index, s) in d.shapes.iter().enumerate() {
             let Some(e) = s.emitter() else { continue };
             let radiance = textures.texture(&e.radiance)?;

@@ -79,6 +79,74 @@ pub fn frame_model(base: &Description, bounds: Aabb) -> Description {
 
 /// A scene with one mesh shape, `file` relative to the scene's base folder, not yet framed: the
 /// camera looks at the unit cube at the origin until [`frame_model`] is given the real bounds.
+/// Samples per pixel of a mesh file with physically based materials, path traced: enough for a
+/// clean preview of a textured model.
+pub const MODEL_SPP: u32 = 32;
+
+/// Path length for mesh files with physically based materials (a few bounces of indirect light).
+pub const MODEL_MAX_DEPTH: i32 = 6;
+
+/// Radiance of the uniform sky around a mesh file with physically based materials and no lights of
+/// its own: a white diffuse surface under it alone comes out at this value.
+pub const MODEL_SKY: f32 = 0.5;
+
+/// How a loaded mesh file (`base` from [`model_description`]) is viewed: framed automatically, or
+/// through the file's camera `camera` (its first by default); lit by the file's lights if it has
+/// any, else by the framing's. A file with physically based materials is path traced, as its
+/// author meant it to be seen, under a uniform grey sky if it brings no lights (metals show what
+/// they reflect: without an environment they would mirror black).
+pub fn view_model(
+    scene: &crate::scene::Scene,
+    base: &Description,
+    camera: Option<usize>,
+) -> crate::error::Result<Description> {
+    use crate::error::Error;
+    let files = &scene.from_files;
+    let mut framed = frame_model(base, scene.geometry.bounds());
+    if files.physically_based {
+        framed.render.integrator = crate::scene::IntegratorKind::Path;
+        framed.render.spp = MODEL_SPP;
+        framed.render.max_depth = MODEL_MAX_DEPTH;
+    }
+    if !files.lights.is_empty() {
+        framed.lights = files.lights.clone();
+    } else if files.physically_based {
+        framed.lights.push(LightDesc::Constant {
+            radiance: [MODEL_SKY; 3],
+        });
+    }
+    let count = files.cameras.len();
+    let chosen = match (camera, count) {
+        (None, 0) => None,
+        (None, _) => Some(0),
+        (Some(_), 0) => return Err(Error::Invalid("the file has no cameras".into())),
+        (Some(n), _) if n >= count => {
+            return Err(Error::Invalid(format!(
+                "there is no camera {n}: the file has {count} ({})",
+                files
+                    .cameras
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| format!("{i}: {}", c.name))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )))
+        }
+        (Some(n), _) => Some(n),
+    };
+    if let Some(c) = chosen.map(|i| &files.cameras[i]) {
+        let (width, height) = (framed.camera.width, framed.camera.height);
+        framed.camera = CameraDesc {
+            width,
+            height: c
+                .aspect
+                .map_or(height, |a| ((width as f32 / a).round() as u32).max(1)),
+            ..c.camera.clone()
+        };
+    }
+    Ok(framed)
+}
+
 pub fn model_description(file: &str) -> Description {
     let base = Description {
         camera: CameraDesc {

@@ -6,7 +6,9 @@ use crate::geometry::{
     triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SphereBlock,
     SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
 };
+use crate::io::mesh_file::MeshAttribute;
 use crate::math::{Aabb, Ray, RayF64, Vec3};
+use crate::shading::texture::AttributePoint;
 
 /// One surface: a `[[shape]]` of the scene file, or one part of a mesh file's `[[shape]]`.
 #[derive(Clone, Debug)]
@@ -161,6 +163,9 @@ enum Analytic {
 pub struct Geometry {
     pub shapes: Vec<Shape>,
     pub meshes: Vec<TriangleMesh>,
+    /// Named per-vertex and per-triangle values of meshes (by index into `meshes`; shorter when
+    /// the last meshes have none).
+    pub mesh_attributes: Vec<Option<std::sync::Arc<Vec<MeshAttribute>>>>,
     pub implicits: Vec<Implicit>,
     /// Where each implicit surface sits in the world, if not at its formula's own coordinates.
     pub implicit_transforms: Vec<Option<ObjectTransform>>,
@@ -498,6 +503,36 @@ impl Geometry {
             v: hit.v,
             instance: NO_INSTANCE,
         }
+    }
+
+    /// Gives mesh `mesh` (an index into `meshes`) its attributes.
+    pub fn set_mesh_attributes(&mut self, mesh: u32, attributes: Vec<MeshAttribute>) {
+        let m = mesh as usize;
+        if self.mesh_attributes.len() <= m {
+            self.mesh_attributes.resize(m + 1, None);
+        }
+        self.mesh_attributes[m] = Some(std::sync::Arc::new(attributes));
+    }
+
+    /// The mesh attributes at a hit, where the surface hit has them.
+    pub fn attributes_at(&self, hit: &SceneHit) -> Option<AttributePoint<'_>> {
+        let geometry = if hit.instance != NO_INSTANCE {
+            let instance = &self.instances[hit.instance as usize];
+            &self.prototypes[instance.prototype as usize].geometry
+        } else {
+            self
+        };
+        let ShapeKind::Mesh(m) = geometry.shapes[hit.shape as usize].kind else {
+            return None;
+        };
+        let attributes = geometry.mesh_attributes.get(m as usize)?.as_deref()?;
+        let vertices = geometry.meshes[m as usize].indices[hit.prim as usize];
+        Some(AttributePoint {
+            attributes,
+            triangle: hit.prim,
+            vertices,
+            barycentrics: [1.0 - hit.u - hit.v, hit.u, hit.v],
+        })
     }
 
     pub fn interaction(&self, ray: &Ray, hit: &SceneHit) -> SurfaceInteraction {

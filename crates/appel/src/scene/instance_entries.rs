@@ -2,7 +2,7 @@
 
 use super::description::Description;
 use super::instance::{Instance, Prototype};
-use super::mesh_shape::add_mesh_file;
+use super::mesh_shape::{add_mesh_file, FileExtras};
 use super::progress::Steps;
 use super::{Geometry, Material, RenderSettings};
 use crate::error::{Error, Location, Result};
@@ -25,12 +25,14 @@ fn fits(x: &InstanceTransform, bounds: crate::math::Aabb) -> bool {
 /// Loads every declared mesh that an instance uses, builds its structure (of the scene's kind), and adds the instances
 /// (their `shapeid` continues the numbering of the `[[shape]]` entries). Returns the time spent
 /// building the prototypes' structures, which belongs to the build phase, not loading.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn add_instances(
     d: &Description,
     base_dir: &Path,
     settings: &RenderSettings,
     geometry: &mut Geometry,
     materials: &mut Vec<Material>,
+    extras: &mut FileExtras,
     material_index: impl Fn(&str) -> u32,
     steps: &Steps,
 ) -> Result<Duration> {
@@ -47,9 +49,11 @@ pub(super) fn add_instances(
         };
         let mut mesh_geometry = Geometry::new(geometry.triangle_test);
         let material = m.material.as_deref().map(&material_index);
+        let emitting = extras.emission.len();
         add_mesh_file(
             &mut mesh_geometry,
             materials,
+            extras,
             &base_dir.join(&m.file),
             None,
             material,
@@ -60,6 +64,15 @@ pub(super) fn add_instances(
             return Err(Error::input(
                 Location::file(base_dir.join(&m.file)),
                 "this file places a mesh several times itself; instances of instances are not supported",
+            ));
+        }
+        // Instanced surfaces cannot emit (their emission would be indexed by the prototype's
+        // shapes, not the scene's).
+        if extras.emission.len() > emitting {
+            extras.emission.truncate(emitting);
+            extras.warnings.push(format!(
+                "{}: its emissive materials do not emit when the mesh is instanced",
+                m.file
             ));
         }
         steps.step(&format!("read {}", m.file))?;

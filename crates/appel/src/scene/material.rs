@@ -85,7 +85,9 @@ fn whitted_equivalent(
         TextureDesc::Value(v) => [*v; 3],
         TextureDesc::Rgb(c) => *c,
         TextureDesc::Texture(TextureNode::Checkerboard { color0, .. }) => *color0,
-        TextureDesc::Texture(TextureNode::Bitmap { .. }) => [0.5; 3],
+        TextureDesc::Texture(TextureNode::Bitmap { .. } | TextureNode::MeshAttribute { .. }) => {
+            [0.5; 3]
+        }
     };
     let ior = |i: &IorDesc, e: &IorDesc| {
         let v = |x: &IorDesc| match x {
@@ -163,6 +165,9 @@ fn whitted_equivalent(
         },
         MaterialDesc::TwoSided(t) => nested(&t.front),
         MaterialDesc::Mask(m) => nested(&m.material),
+        MaterialDesc::NormalMap(m) => nested(&m.material),
+        MaterialDesc::BumpMap(m) => nested(&m.material),
+        MaterialDesc::Blend(m) => nested(&m.materials[0]),
     }
 }
 

@@ -39,6 +39,13 @@ pub struct MemoryEstimate {
 /// Triangles and vertices of a mesh file, from its header (PLY) or its size (other formats: about
 /// one triangle per 24 bytes of file, which over-counts for text formats).
 fn mesh_counts(path: &Path) -> Result<(u64, u64)> {
+    // A zip archive: its size, as for a compressed file (about 5:1 for mesh text).
+    if let Some(a) = crate::io::assets::archive_path(path) {
+        let size = std::fs::metadata(&a.archive)
+            .map_err(|e| crate::error::Error::io(&a.archive, e))?
+            .len();
+        return Ok((5 * size / 24, 5 * size / 48));
+    }
     match MeshFormat::from_path(path) {
         Some((MeshFormat::Ply, _)) => {
             let c = read_ply_counts(path)?;

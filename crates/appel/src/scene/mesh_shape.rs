@@ -1,19 +1,38 @@
 //! `type = "mesh"` shapes: a mesh file, placed by its transform, with its own materials unless the
 //! shape names one.
 
-use super::description::{TransformDesc, WhittedDesc};
+use super::description::{LightDesc, TransformDesc, WhittedDesc};
+use super::file_materials::{self, is_physically_based, Images};
 use super::{Geometry, Instance, Material, Prototype};
 use crate::accel::{AccelKind, AccelOptions};
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
-use crate::io::{load_mesh, FileMaterial};
+use crate::io::{load_mesh, FileCamera, FileMaterial};
+use crate::shading::texture::Texture;
 use std::path::Path;
+
+/// What mesh files bring besides triangles: their physically based materials (by index in the
+/// scene's material list), emitting surfaces, lights, cameras and warnings.
+#[derive(Clone, Debug, Default)]
+pub struct FileExtras {
+    pub shading: Vec<(u32, crate::shading::material::Material)>,
+    /// Top-level surfaces (by `Geometry::shapes` index) that emit, with their radiance.
+    pub emission: Vec<(u32, Texture)>,
+    pub lights: Vec<LightDesc>,
+    pub cameras: Vec<FileCamera>,
+    pub warnings: Vec<String>,
+    /// Whether any file material maps onto a physically based material (the Monte Carlo
+    /// integrators then show it as meant).
+    pub physically_based: bool,
+}
 
 /// Loads `path`, transforms it and adds one mesh shape per part. `material` overrides the file's
 /// materials when the scene names one.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn add_mesh_file(
     geometry: &mut Geometry,
     materials: &mut Vec<Material>,
+    extras: &mut FileExtras,
     path: &Path,
     transform: Option<&TransformDesc>,
     material: Option<u32>,
@@ -35,16 +54,57 @@ pub(super) fn add_mesh_file(
             ));
         }
     }
-    let first = materials.len() as u32;
+    extras.warnings.extend(
+        loaded
+            .warnings
+            .iter()
+            .map(|w| format!("{}: {w}", path.display())),
+    );
+    extras.lights.append(&mut loaded.lights);
+    extras.cameras.append(&mut loaded.cameras);
+    // The scene index of each file material (the entry its triangles use), and its emission.
+    let mut file_material: Vec<u32> = vec![];
+    let mut emission: Vec<Option<Texture>> = vec![];
     if material.is_none() {
-        materials.extend(loaded.materials.iter().map(material_from_file));
+        let images = Images::decode(&loaded)?;
+        for m in &loaded.materials {
+            if is_physically_based(m) {
+                extras.physically_based = true;
+                let first = materials.len() as u32;
+                let built = file_materials::build(m, &images, first);
+                for (k, (whitted, shading)) in built.entries.into_iter().enumerate() {
+                    materials.push(whitted);
+                    extras.shading.push((first + k as u32, shading));
+                }
+                file_material.push(materials.len() as u32 - 1);
+                emission.push(built.emission);
+            } else {
+                materials.push(material_from_file(m));
+                file_material.push(materials.len() as u32 - 1);
+                emission.push(None);
+            }
+        }
     }
-    let part_material = |m: Option<u32>| material.unwrap_or_else(|| m.map_or(0, |m| first + m));
+    let part_material =
+        |m: Option<u32>| material.unwrap_or_else(|| m.map_or(0, |m| file_material[m as usize]));
+    let part_emission = |m: Option<u32>| match (material, m) {
+        (None, Some(m)) => emission[m as usize].clone(),
+        _ => None,
+    };
     let mut first_prim = 0;
+    // Attributes are read from files of one part (PLY), indexed by its vertices and triangles.
+    let mut attributes = (loaded.parts.len() == 1).then_some(loaded.attributes);
     for part in loaded.parts {
         let id = part_material(part.material);
         let count = part.mesh.triangle_count() as u32;
+        let emits = part_emission(part.material);
         let shape = geometry.push_mesh(part.mesh, id);
+        if let Some(e) = emits {
+            extras.emission.push((shape, e));
+        }
+        if let Some(a) = attributes.take().filter(|a| !a.is_empty()) {
+            geometry.set_mesh_attributes(geometry.meshes.len() as u32 - 1, a);
+        }
         let source = &mut geometry.shapes[shape as usize].source;
         source.first_prim = first_prim;
         source.prim_table = part.file_triangles;
@@ -56,6 +116,13 @@ pub(super) fn add_mesh_file(
         let mut g = Geometry::new(geometry.triangle_test);
         let mut first_prim = 0;
         for part in parts {
+            if part_emission(part.material).is_some() {
+                extras.warnings.push(format!(
+                    "{}: a mesh placed by several nodes has an emissive material; instanced \
+                     surfaces cannot emit, so it does not",
+                    path.display()
+                ));
+            }
             let count = part.mesh.triangle_count() as u32;
             let shape = g.push_mesh(part.mesh, part_material(part.material));
             g.shapes[shape as usize].source.first_prim = first_prim;

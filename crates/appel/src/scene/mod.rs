@@ -6,6 +6,7 @@ pub mod builtin;
 mod camera;
 pub mod description;
 mod emitters;
+mod file_materials;
 mod frame;
 mod geometry;
 mod instance;
@@ -24,7 +25,7 @@ pub use camera::Camera;
 pub use description::Description;
 use description::ShapeDesc;
 pub use emitters::{SceneEmitters, NO_EMITTER};
-pub use frame::{frame_model, model_description};
+pub use frame::{frame_model, model_description, view_model};
 pub use geometry::{
     Geometry, PrimRef, PrimRefs, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE,
 };
@@ -32,6 +33,7 @@ pub use instance::{Instance, Prototype};
 pub use light::Light;
 pub use material::{Checker, Material};
 pub use memory::{estimate_memory, MemoryEstimate};
+pub use mesh_shape::FileExtras;
 pub use progress::{LoadStep, SceneOptions};
 
 use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
@@ -115,6 +117,9 @@ pub struct Scene {
     pub background: Vec3,
     pub ambient: Vec3,
     pub timings: SceneTimings,
+    /// What the scene's mesh files brought besides triangles (materials, emitting surfaces, lights,
+    /// cameras, warnings).
+    pub from_files: FileExtras,
 }
 
 /// A scene description read from a file, and the folder its relative paths are relative to.
@@ -256,7 +261,7 @@ impl Scene {
             rr_depth: d.render.rr_depth,
             hide_emitters: d.render.hide_emitters,
             spp: d.render.spp,
-            sampler: d.render.sampler,
+            sampler: d.render.integrator.sampler(d.render.sampler),
             seed: d.render.seed,
             filter: d.render.filter,
             accel: AccelKind::from_name(&d.render.accel).ok_or_else(|| {
@@ -280,6 +285,7 @@ impl Scene {
                 .map(|m| Material::approximating(m, &d.materials)),
         );
         let mut geometry = Geometry::new(triangle_test);
+        let mut from_files = FileExtras::default();
         for (index, s) in d.shapes.iter().enumerate() {
             let first_new_shape = geometry.shapes.len();
             let first_new_instance = geometry.instances.len();
@@ -368,6 +374,7 @@ impl Scene {
                     mesh_shape::add_mesh_file(
                         &mut geometry,
                         &mut materials,
+                        &mut from_files,
                         &base_dir.join(&m.file),
                         m.transform.as_ref(),
                         m.material.is_some().then_some(material),
@@ -403,6 +410,7 @@ impl Scene {
             &settings,
             &mut geometry,
             &mut materials,
+            &mut from_files,
             |m| {
                 names
                     .iter()
@@ -425,8 +433,9 @@ impl Scene {
         let accel = Accel::build_with(top_level, &geometry, &settings.accel_options);
         let build = build_start.elapsed() + prototype_build;
         let mut textures = textures::TextureCache::new(base_dir);
-        let emitters = SceneEmitters::build(d, &geometry, &mut textures)?;
-        let shading_materials = shading_materials::build(d, &materials, &mut textures)?;
+        let emitters = SceneEmitters::build(d, &geometry, &from_files.emission, &mut textures)?;
+        let shading_materials =
+            shading_materials::build(d, &materials, &from_files.shading, &mut textures)?;
         let has_masks = shading_materials.iter().any(|m| m.has_mask());
         steps.step("built the top-level structure")?;
         Ok(Scene {
@@ -442,6 +451,7 @@ impl Scene {
             background: d.environment.background.into(),
             ambient: d.environment.ambient.into(),
             timings: SceneTimings { load, build },
+            from_files,
         })
     }
 
@@ -456,22 +466,34 @@ impl Scene {
         self.geometry.intersect_unbounded(ray, t_max).or(bounded)
     }
 
-    /// [`Self::intersect`] of up to [`crate::accel::bvh::PACKET`] rays at once, `out[i]` for
-    /// `rays[i]`: the same hits, the 8-wide BVH tracing coherent packets together.
-    pub fn intersect_packet(
+    /// [`Self::intersect`] of each of `rays` (`out[i]` for `rays[i]`), for coherent rays such as the
+    /// camera rays of neighbouring pixels: where the structure has a packet path (the 8-wide BVH
+    /// over more than one leaf) they are traced in packets of [`crate::accel::bvh::PACKET`],
+    /// otherwise one by one. The hits are the same either way; only the cost differs (a scene
+    /// of one leaf, such as Whitted's, has nothing for a packet to share).
+    pub fn intersect_coherent(
         &self,
         rays: &[Ray],
         t_max: f32,
         out: &mut [Option<SceneHit>],
         stats: &mut TraversalStats,
     ) {
-        let mut hits = [None; crate::accel::bvh::PACKET];
-        self.accel
-            .intersect_packet(&self.geometry, rays, t_max, &mut hits, stats);
-        for ((ray, hit), o) in rays.iter().zip(hits).zip(out.iter_mut()) {
-            let bounded = hit.map(|h| self.geometry.scene_hit(h));
-            let t_max = bounded.map_or(t_max, |h| h.t);
-            *o = self.geometry.intersect_unbounded(ray, t_max).or(bounded);
+        if !self.accel.has_packets() {
+            for (ray, o) in rays.iter().zip(out.iter_mut()) {
+                *o = self.intersect(ray, t_max, stats);
+            }
+            return;
+        }
+        const PACKET: usize = crate::accel::bvh::PACKET;
+        for (rays, out) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
+            let mut hits = [None; PACKET];
+            self.accel
+                .intersect_packet(&self.geometry, rays, t_max, &mut hits, stats);
+            for ((ray, hit), o) in rays.iter().zip(hits).zip(out.iter_mut()) {
+                let bounded = hit.map(|h| self.geometry.scene_hit(h));
+                let t_max = bounded.map_or(t_max, |h| h.t);
+                *o = self.geometry.intersect_unbounded(ray, t_max).or(bounded);
+            }
         }
     }
 
@@ -490,6 +512,7 @@ impl Scene {
         self.emitters = SceneEmitters::build(
             d,
             &self.geometry,
+            &self.from_files.emission,
             &mut textures::TextureCache::new(Path::new(".")),
         )?;
         self.background = d.environment.background.into();

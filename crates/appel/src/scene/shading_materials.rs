@@ -16,9 +16,12 @@ use glam::{Mat3, Vec2, Vec3};
 /// Mitsuba's default roughness.
 const DEFAULT_ALPHA: f32 = 0.1;
 
+/// `from_files` are mesh files' physically based materials, by index; the other entries past the
+/// described ones are read from their Whitted view.
 pub fn build(
     d: &Description,
     whitted: &[WhittedMaterial],
+    from_files: &[(u32, Material)],
     textures: &mut TextureCache,
 ) -> Result<Vec<Material>> {
     let names: Vec<&String> = d.materials.keys().collect();
@@ -37,6 +40,9 @@ pub fn build(
         );
     }
     out.extend(whitted[out.len()..].iter().map(from_whitted));
+    for (i, m) in from_files {
+        out[*i as usize] = m.clone();
+    }
     Ok(out)
 }
 
@@ -199,6 +205,24 @@ fn from_description(
         MaterialDesc::Mask(x) => Material::Mask {
             opacity: tex(&x.opacity)?,
             inner: index(&x.material),
+        },
+        MaterialDesc::NormalMap(x) => Material::NormalMap {
+            normals: tex(&x.normalmap)?,
+            inner: index(&x.material),
+            flip_invalid: x.flip_invalid_normals,
+            shadowing: x.use_shadowing_function,
+        },
+        MaterialDesc::Blend(x) => Material::Blend {
+            weight: tex(&x.weight)?,
+            first: index(&x.materials[0]),
+            second: index(&x.materials[1]),
+        },
+        MaterialDesc::BumpMap(x) => Material::BumpMap {
+            height: tex(&x.bumpmap)?,
+            scale: x.scale,
+            inner: index(&x.material),
+            flip_invalid: x.flip_invalid_normals,
+            shadowing: x.use_shadowing_function,
         },
     })
 }

@@ -45,6 +45,9 @@ impl<'a> TextureCache<'a> {
                 };
                 Texture::Bitmap(BitmapTexture::new(bitmap, filter, wrap, uv_matrix(to_uv)))
             }
+            TextureDesc::Texture(TextureNode::MeshAttribute { name }) => {
+                Texture::MeshAttribute(name.clone())
+            }
             TextureDesc::Texture(TextureNode::Checkerboard {
                 color0,
                 color1,

@@ -315,6 +315,12 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
     for (k, r) in match m {
         MaterialDesc::TwoSided(t) => vec![("front", Some(&t.front)), ("back", t.back.as_ref())],
         MaterialDesc::Mask(mask) => vec![("material", Some(&mask.material))],
+        MaterialDesc::NormalMap(x) => vec![("material", Some(&x.material))],
+        MaterialDesc::BumpMap(x) => vec![("material", Some(&x.material))],
+        MaterialDesc::Blend(x) => vec![
+            ("materials", Some(&x.materials[0])),
+            ("materials", Some(&x.materials[1])),
+        ],
         _ => vec![],
     } {
         let Some(r) = r else { continue };
@@ -323,7 +329,22 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
             return c.fail(k, format!("material `{name}` cannot wrap itself"));
         }
     }
+    if let MaterialDesc::Blend(x) = m {
+        for r in &x.materials {
+            if d.materials
+                .get(r)
+                .is_some_and(|inner| !inner.references().is_empty())
+            {
+                return c.fail(
+                    "materials",
+                    format!("a blend mixes plain materials; `{r}` wraps others"),
+                );
+            }
+        }
+    }
     // Wrapping chains end: a material reaches no material twice.
+    let is_map =
+        |m: &MaterialDesc| matches!(m, MaterialDesc::NormalMap(_) | MaterialDesc::BumpMap(_));
     let mut seen = vec![name];
     let mut frontier = m.references();
     while let Some(next) = frontier.pop() {
@@ -334,8 +355,17 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
             );
         }
         seen.push(next);
-        if let Some(m) = d.materials.get(next) {
-            frontier.extend(m.references());
+        if let Some(inner) = d.materials.get(next) {
+            // One perturbed frame per surface: the material layer composes one.
+            if is_map(m) && is_map(inner) {
+                return c.fail(
+                    "material",
+                    format!(
+                        "normal and bump maps cannot wrap one another (`{name}` wraps `{next}`)"
+                    ),
+                );
+            }
+            frontier.extend(inner.references());
         }
     }
     Ok(())
@@ -351,6 +381,12 @@ fn texture(c: &mut Checker, t: &TextureDesc) -> Check {
             }
             if let Some(m) = to_uv {
                 c.finite("to_uv", m.as_flattened())?;
+            }
+            Ok(())
+        }
+        TextureDesc::Texture(TextureNode::MeshAttribute { name }) => {
+            if name.is_empty() {
+                return c.fail("name", "`name` must name a mesh attribute");
             }
             Ok(())
         }
@@ -696,7 +732,7 @@ fn transform(c: &mut Checker, t: &TransformDesc) -> Check {
 pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid> {
     let exists = |f: &str, what: &str, path: Vec<PathSeg>| {
         let p = base_dir.join(f);
-        if p.is_file() {
+        if p.is_file() || (what == "mesh file" && crate::io::mesh_source_exists(&p)) {
             Ok(())
         } else {
             Err(Invalid {
@@ -721,7 +757,7 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
     for (i, s) in d.shapes.iter().enumerate() {
         if let ShapeDesc::Mesh(m) = s {
             let p = base_dir.join(&m.file);
-            if !p.is_file() {
+            if !crate::io::mesh_source_exists(&p) {
                 return Err(Invalid {
                     path: vec![key("shape"), PathSeg::Index(i), key("file")],
                     message: format!("the mesh file `{}` does not exist", p.display()),

@@ -8,5 +8,6 @@ pub(crate) mod chi2;
 pub mod emitter;
 pub mod frame;
 pub mod material;
+pub mod perturb;
 pub mod spectra;
 pub mod texture;

@@ -101,7 +101,7 @@ pub(super) fn xyz0(v: Vec4) -> Vec4 {
             let mask = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
             let mut r: __m128 = v.into();
             // In assembly, because LLVM turns `_mm_and_ps` with this mask into a shuffle with a
-            // zeroed register, four instructions instead of one in the binning loop (session 6).
+            // zeroed register, four instructions instead of one in the binning loop (callgrind, 2026-12-02).
             std::arch::asm!(
                 "andps {r}, {m}",
                 r = inout(xmm_reg) r,

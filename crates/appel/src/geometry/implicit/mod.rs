@@ -141,6 +141,7 @@ impl Implicit {
             uv: Vec2::new(phi, theta) * r,
             // Not a parametrization of the surface: the shading frame picks its own tangent.
             dpdu: Vec3::ZERO,
+            dpdv: Vec3::ZERO,
         }
     }
 }

@@ -4,10 +4,12 @@
 
 mod hash;
 mod independent;
+mod pixel_pattern;
 mod sobol;
 
 pub use hash::mix64;
 pub use independent::{IndependentSampler, Pcg32};
+pub use pixel_pattern::PixelPatternSampler;
 pub use sobol::SobolSampler;
 
 use crate::math::Vec2;
@@ -64,6 +66,7 @@ mod tests {
             moments(IndependentSampler::new(7), 64),
             moments(SobolSampler::new(7, 64), 64),
             moments(SobolSampler::new(7, 48), 48),
+            moments(PixelPatternSampler::new(7, 64), 64),
         ] {
             // 6144 samples: the mean's standard error is 0.0037.
             assert!((mean - 0.5).abs() < 0.02, "mean {mean}");

@@ -36,6 +36,13 @@ pub enum MaterialDesc {
     TwoSided(TwoSidedDesc),
     /// Cut-outs: the surface is there with probability `opacity`, else rays pass through.
     Mask(MaskDesc),
+    /// `material` shaded around the normals of a tangent-space normal map.
+    NormalMap(NormalMapDesc),
+    /// `material` shaded around the normals of a height field.
+    BumpMap(BumpMapDesc),
+    /// Two materials mixed by a weight.
+    #[serde(rename = "blendbsdf")]
+    Blend(BlendDesc),
 }
 
 /// Reads `[materials]`: a table without `type` is a Whitted material, as every material was before
@@ -75,6 +82,9 @@ impl MaterialDesc {
                 .chain(t.back.as_deref())
                 .collect(),
             MaterialDesc::Mask(m) => vec![m.material.as_str()],
+            MaterialDesc::NormalMap(m) => vec![m.material.as_str()],
+            MaterialDesc::BumpMap(m) => vec![m.material.as_str()],
+            MaterialDesc::Blend(m) => m.materials.iter().map(String::as_str).collect(),
             _ => vec![],
         }
     }
@@ -122,6 +132,9 @@ impl MaterialDesc {
                 opt("alpha_v", &p.alpha_v),
             ],
             MaterialDesc::Mask(m) => vec![Some(("opacity", &m.opacity))],
+            MaterialDesc::NormalMap(m) => vec![Some(("normalmap", &m.normalmap))],
+            MaterialDesc::BumpMap(m) => vec![Some(("bumpmap", &m.bumpmap))],
+            MaterialDesc::Blend(m) => vec![Some(("weight", &m.weight))],
             MaterialDesc::Principled(p) => vec![
                 Some(("base_color", &p.base_color)),
                 Some(("roughness", &p.roughness)),
@@ -244,6 +257,9 @@ pub enum TextureNode {
         to_uv: Option<[[f32; 3]; 3]>,
     },
     /// Mitsuba's checkerboard: `color0` where `floor(2u) + floor(2v)` is even... see the docs.
+    /// A mesh's named per-vertex or per-face values (Mitsuba's `mesh_attribute`): PLY files'
+    /// extra properties, as `vertex_NAME` and `face_NAME`.
+    MeshAttribute { name: String },
     Checkerboard {
         #[serde(default = "default_checker0")]
         color0: Vec3f,
@@ -506,6 +522,50 @@ pub struct MaskDesc {
     pub opacity: TextureDesc,
     /// The material where the surface is present.
     pub material: String,
+}
+
+/// A tangent-space normal map: RGB in [0, 1] is the normal in [-1, 1]^3 relative to the shading
+/// frame (x along dp/du, z the shading normal). Give bitmaps `raw = true`: the values are not
+/// colours.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct NormalMapDesc {
+    pub normalmap: TextureDesc,
+    /// The material shaded with the perturbed normals.
+    pub material: String,
+    /// Turn normals that face away from the viewer towards it (Mitsuba's default).
+    #[serde(default = "yes")]
+    pub flip_invalid_normals: bool,
+    /// Soften the shadow terminator of tilted normals (Conty Estevez et al. 2019; Mitsuba's
+    /// default).
+    #[serde(default = "yes")]
+    pub use_shadowing_function: bool,
+}
+
+/// A bump map: the height field's gradient in uv (its grey value or luminance), times `scale`,
+/// tilts the normal.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BumpMapDesc {
+    pub bumpmap: TextureDesc,
+    #[serde(default = "one_f")]
+    pub scale: f32,
+    pub material: String,
+    #[serde(default = "yes")]
+    pub flip_invalid_normals: bool,
+    #[serde(default = "yes")]
+    pub use_shadowing_function: bool,
+}
+
+/// Mitsuba's `blendbsdf`: `(1 - weight) materials[0] + weight materials[1]`.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BlendDesc {
+    /// Texture in [0, 1] (clamped): the share of the second material.
+    #[serde(default = "half")]
+    pub weight: TextureDesc,
+    /// The two materials, plain BSDFs (not wrappers such as `twosided` or another blend).
+    pub materials: [String; 2],
 }
 
 fn half() -> TextureDesc {

@@ -23,10 +23,10 @@ pub struct RenderDesc {
     /// Samples per pixel. Raycast and Whitted: 1 means exactly the pixel centre.
     #[serde(default = "default_spp")]
     pub spp: u32,
-    /// Path and direct: how samples are drawn.
-    #[serde(default)]
-    pub sampler: SamplerName,
-    /// Path and direct: another seed gives another (equally valid) noise pattern.
+    /// How samples are drawn; unset, the integrator's own choice ([`IntegratorName::sampler`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sampler: Option<SamplerName>,
+    /// Another seed gives another (equally valid) noise pattern.
     #[serde(default)]
     pub seed: u64,
     /// The reconstruction filter through which samples reach pixels.
@@ -55,7 +55,7 @@ impl Default for RenderDesc {
             hide_emitters: false,
             accel: default_accel(),
             spp: default_spp(),
-            sampler: SamplerName::default(),
+            sampler: None,
             seed: 0,
             filter: FilterDesc::default(),
             triangle: default_triangle(),
@@ -94,9 +94,20 @@ impl IntegratorName {
         }
     }
 
-    /// Whether the integrator samples light transport (and so reads the sampler and filter).
+    /// Whether the integrator samples light transport.
     pub fn is_monte_carlo(self) -> bool {
         matches!(self, Self::Path | Self::Direct)
+    }
+
+    /// The sampler used when `[render]` names none: raycast and Whitted look through the pixel
+    /// centre first (their images at one sample per pixel are the convention's), path and direct
+    /// draw independent numbers as Mitsuba's default sampler does.
+    pub fn sampler(self, named: Option<SamplerName>) -> SamplerName {
+        named.unwrap_or(if self.is_monte_carlo() {
+            SamplerName::Independent
+        } else {
+            SamplerName::PixelPattern
+        })
     }
 }
 
@@ -108,15 +119,19 @@ pub enum SamplerName {
     Independent,
     /// Owen-scrambled Sobol points (low discrepancy).
     Sobol,
+    /// The same film positions in every pixel, the centre first then the R2 sequence; the other
+    /// dimensions independent.
+    PixelPattern,
 }
 
 impl SamplerName {
-    pub const NAMES: &'static [&'static str] = &["independent", "sobol"];
+    pub const NAMES: &'static [&'static str] = &["independent", "sobol", "pixel_pattern"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "independent" => Some(Self::Independent),
             "sobol" => Some(Self::Sobol),
+            "pixel_pattern" => Some(Self::PixelPattern),
             _ => None,
         }
     }

@@ -148,6 +148,43 @@ impl BitmapTexture {
         }
     }
 
+    /// The gradient of [`Self::eval_1`] with respect to (u, v) (Mitsuba's `eval_1_grad`, which
+    /// `bumpmap` reads): the derivative of the bilinear blend of the four texels' float values
+    /// (a grey value or the luminance) inside the cell, times the resolution, carried back through
+    /// `to_uv` by its transpose. Piecewise constant lookups have no gradient.
+    pub fn eval_1_grad(&self, uv: Vec2) -> Vec2 {
+        if self.filter == Filter::Nearest {
+            return Vec2::ZERO;
+        }
+        let p = transform_uv(&self.to_uv, uv);
+        let (w, h) = (self.bitmap.width as i64, self.bitmap.height as i64);
+        let (fx, fy) = (p.x * w as f32 - 0.5, p.y * h as f32 - 0.5);
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (wx, wy) = (fx - x0, fy - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let (xa, xb) = (self.wrap.apply(x0, w), self.wrap.apply(x0 + 1, w));
+        let (ya, yb) = (self.wrap.apply(y0, h), self.wrap.apply(y0 + 1, h));
+        let value = |x, y| {
+            let c = self.texel(x, y);
+            if self.is_grey() {
+                c.x
+            } else {
+                luminance(c)
+            }
+        };
+        let (f00, f10, f01, f11) = (value(xa, ya), value(xb, ya), value(xa, yb), value(xb, yb));
+        // Per pixel of x and y...
+        let dx = (1.0 - wy) * (f10 - f00) + wy * (f11 - f01);
+        let dy = (1.0 - wx) * (f01 - f00) + wx * (f11 - f10);
+        // ...then per unit of the transformed uv, and through the map's linear part.
+        let d = Vec2::new(dx * w as f32, dy * h as f32);
+        let m = self.to_uv;
+        Vec2::new(
+            m.x_axis.x * d.x + m.x_axis.y * d.y,
+            m.y_axis.x * d.x + m.y_axis.y * d.y,
+        )
+    }
+
     /// Per-channel mean of the pixels.
     pub fn mean(&self) -> Vec3 {
         self.mean
@@ -343,5 +380,41 @@ mod tests {
         };
         assert_eq!(r.eval_1(Vec2::new(-0.25, 0.25)), 1.0);
         assert_eq!(r.eval_1(Vec2::new(1.25, -0.25)), 2.0);
+    }
+
+    /// The gradient is the derivative of `eval_1`: central differences inside a cell, through a
+    /// uv map that scales, shears and translates.
+    #[test]
+    fn gradient_is_the_derivative_of_the_lookup() {
+        let bitmap = Bitmap {
+            width: 3,
+            height: 2,
+            channels: 3,
+            data: vec![
+                0.1, 0.7, 0.2, 0.9, 0.3, 0.4, 0.5, 0.5, 0.1, 0.0, 0.2, 0.8, 0.6, 0.6, 0.6, 1.0,
+                0.0, 0.3,
+            ],
+        };
+        let m = Mat3::from_cols_array_2d(&[[1.5, 0.3, 0.0], [-0.2, 0.8, 0.0], [0.1, 0.25, 1.0]]);
+        let t = BitmapTexture::new(Arc::new(bitmap), Filter::Bilinear, Wrap::Repeat, m);
+        let h = 1e-3;
+        for uv in [
+            Vec2::new(0.31, 0.42),
+            Vec2::new(-0.7, 1.33),
+            Vec2::new(0.9, 0.05),
+        ] {
+            let g = t.eval_1_grad(uv);
+            let du = (t.eval_1(uv + Vec2::X * h) - t.eval_1(uv - Vec2::X * h)) / (2.0 * h);
+            let dv = (t.eval_1(uv + Vec2::Y * h) - t.eval_1(uv - Vec2::Y * h)) / (2.0 * h);
+            assert!(
+                (g - Vec2::new(du, dv)).length() < 2e-3 * (1.0 + g.length()),
+                "{uv}: {g} vs {du}, {dv}"
+            );
+        }
+        let nearest = BitmapTexture {
+            filter: Filter::Nearest,
+            ..t
+        };
+        assert_eq!(nearest.eval_1_grad(Vec2::new(0.31, 0.42)), Vec2::ZERO);
     }
 }

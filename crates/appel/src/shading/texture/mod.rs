@@ -1,9 +1,11 @@
 //! Textures as Mitsuba 3 evaluates them in its RGB variants: constants, bitmaps and checkerboards,
 //! looked up by surface uv.
 
+mod attribute;
 mod bitmap;
 mod checkerboard;
 
+pub use attribute::{AttributePoint, MeshAttributes};
 pub use bitmap::{BitmapTexture, Filter, Wrap};
 pub use checkerboard::Checkerboard;
 
@@ -14,6 +16,25 @@ pub enum Texture {
     Constant(Vec3),
     Bitmap(BitmapTexture),
     Checkerboard(Checkerboard),
+    /// A mesh's named per-vertex or per-face values (Mitsuba's `mesh_attribute`).
+    MeshAttribute(String),
+}
+
+/// Where a texture is looked up: texture coordinates, and the mesh attributes of the point where
+/// it has them.
+#[derive(Clone, Copy, Debug)]
+pub struct TexPoint<'a> {
+    pub uv: Vec2,
+    pub attributes: Option<AttributePoint<'a>>,
+}
+
+impl TexPoint<'_> {
+    pub fn uv(uv: Vec2) -> Self {
+        TexPoint {
+            uv,
+            attributes: None,
+        }
+    }
 }
 
 /// Luminance of linear sRGB (Rec. 709 primaries, the Y row of the sRGB-to-XYZ matrix), with
@@ -33,12 +54,36 @@ pub(crate) fn transform_uv(m: &Mat3, uv: Vec2) -> Vec2 {
 }
 
 impl Texture {
-    /// The RGB value at `uv`.
+    /// The RGB value at `uv` (black for mesh attributes, which need [`Self::eval_at`]).
     pub fn eval(&self, uv: Vec2) -> Vec3 {
         match self {
             Texture::Constant(c) => *c,
             Texture::Bitmap(b) => b.eval(uv),
             Texture::Checkerboard(c) => c.eval(uv),
+            Texture::MeshAttribute(_) => Vec3::ZERO,
+        }
+    }
+
+    /// The RGB value at `p`: a mesh attribute's (one channel as grey), else as [`Self::eval`].
+    /// A surface without the attribute is black (scene building checks that meshes have the
+    /// attributes their materials read).
+    pub fn eval_at(&self, p: &TexPoint) -> Vec3 {
+        match self {
+            Texture::MeshAttribute(name) => p
+                .attributes
+                .and_then(|a| a.value(name))
+                .unwrap_or(Vec3::ZERO),
+            _ => self.eval(p.uv),
+        }
+    }
+
+    /// [`Self::eval_1`] at `p`: a one-channel attribute's value, a colour attribute's luminance.
+    pub fn eval_1_at(&self, p: &TexPoint) -> f32 {
+        match self {
+            Texture::MeshAttribute(name) => {
+                p.attributes.and_then(|a| a.value_1(name)).unwrap_or(0.0)
+            }
+            _ => self.eval_1(p.uv),
         }
     }
 
@@ -51,6 +96,18 @@ impl Texture {
             Texture::Constant(c) => channel_mean(*c),
             Texture::Bitmap(b) => b.eval_1(uv),
             Texture::Checkerboard(c) => c.eval_1(uv),
+            Texture::MeshAttribute(_) => 0.0,
+        }
+    }
+
+    /// The gradient of [`Self::eval_1`] in (u, v): zero for the piecewise constant textures, as
+    /// Mitsuba's constant and checkerboard textures answer.
+    pub fn eval_1_grad(&self, uv: Vec2) -> Vec2 {
+        match self {
+            Texture::Bitmap(b) => b.eval_1_grad(uv),
+            Texture::Constant(_) | Texture::Checkerboard(_) | Texture::MeshAttribute(_) => {
+                Vec2::ZERO
+            }
         }
     }
 
@@ -60,6 +117,8 @@ impl Texture {
             Texture::Constant(c) => *c,
             Texture::Bitmap(b) => b.mean(),
             Texture::Checkerboard(c) => 0.5 * (c.color0 + c.color1),
+            // Unknown before a surface is hit; a mid grey for the plastics' lobe weights.
+            Texture::MeshAttribute(_) => Vec3::splat(0.5),
         }
     }
 

@@ -7,15 +7,16 @@ use super::super::transform::to_rows;
 use super::Converter;
 use crate::error::Result;
 use crate::scene::description::{
-    ConductorDesc, DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc, MaskDesc, MaterialDesc,
-    PlasticDesc, PrincipledDesc, PrincipledThinDesc, RoughConductorDesc, RoughDielectricDesc,
-    RoughPlasticDesc, TextureDesc, TextureFilter, TextureNode, TextureWrap, TwoSidedDesc,
+    BlendDesc, BumpMapDesc, ConductorDesc, DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc,
+    MaskDesc, MaterialDesc, NormalMapDesc, PlasticDesc, PrincipledDesc, PrincipledThinDesc,
+    RoughConductorDesc, RoughDielectricDesc, RoughPlasticDesc, TextureDesc, TextureFilter,
+    TextureNode, TextureWrap, TwoSidedDesc,
 };
 use std::rc::Rc;
 
 const BSDFS: &str = "diffuse, conductor, roughconductor, dielectric, thindielectric, \
                      roughdielectric, plastic, roughplastic, principled, principledthin, \
-                     twosided, mask";
+                     twosided, mask, normalmap, bumpmap, blendbsdf";
 
 /// Mitsuba's BSDF for shapes without one: diffuse, reflectance 0.5.
 pub(super) fn mitsuba_default() -> MaterialDesc {
@@ -214,6 +215,58 @@ impl Converter<'_> {
                     material: material.clone(),
                 })
             }
+            "blendbsdf" => {
+                let weight = tex(self, b, "weight", 0.5)?;
+                let nested = self.nested_bsdfs(b)?;
+                let [first, second] = nested.as_slice() else {
+                    return Err(b.error("expected two nested BSDFs"));
+                };
+                MaterialDesc::Blend(BlendDesc {
+                    weight,
+                    materials: [first.clone(), second.clone()],
+                })
+            }
+            "normalmap" => {
+                let Some(normalmap) = texture(self, b, "normalmap", SpectrumUse::Unbounded)? else {
+                    return Err(b.error("expected a \"normalmap\" texture"));
+                };
+                let nested = self.nested_bsdfs(b)?;
+                let [material] = nested.as_slice() else {
+                    return Err(b.error("expected one nested BSDF"));
+                };
+                MaterialDesc::NormalMap(NormalMapDesc {
+                    normalmap,
+                    material: material.clone(),
+                    flip_invalid_normals: b.bool_or("flip_invalid_normals", true)?,
+                    use_shadowing_function: b.bool_or("use_shadowing_function", true)?,
+                })
+            }
+            "bumpmap" => {
+                // Mitsuba takes the one texture child, whatever its name.
+                let mut textures = Vec::new();
+                for child in &b.children {
+                    let o = self.doc.target(child)?;
+                    if o.class == "texture" {
+                        b.take(child);
+                        textures.push(o);
+                    }
+                }
+                let [t] = textures.as_slice() else {
+                    return Err(b.error("expected exactly one nested texture (the height field)"));
+                };
+                let bumpmap = texture_object(self, t)?;
+                let nested = self.nested_bsdfs(b)?;
+                let [material] = nested.as_slice() else {
+                    return Err(b.error("expected one nested BSDF"));
+                };
+                MaterialDesc::BumpMap(BumpMapDesc {
+                    bumpmap,
+                    scale: b.float_or("scale", 1.0)? as f32,
+                    material: material.clone(),
+                    flip_invalid_normals: b.bool_or("flip_invalid_normals", true)?,
+                    use_shadowing_function: b.bool_or("use_shadowing_function", true)?,
+                })
+            }
             p => {
                 return Err(b.error(format!(
                     "unsupported BSDF plugin \"{p}\" (supported: {BSDFS})"
@@ -301,8 +354,25 @@ pub(super) fn texture(
         TextureArg::Spectrum(Spectrum::Pairs(pairs), _) => {
             TextureDesc::Rgb(pairs_to_rgb(pairs, use_).map(|v| v as f32))
         }
-        TextureArg::Object(t, _) => TextureDesc::Texture(texture_node(c, &t)?),
+        TextureArg::Object(t, _) => texture_object(c, &t)?,
     }))
+}
+
+/// A `<texture>` object: Mitsuba's `rawconstant` (a value used as it is, with no colour
+/// conversion) as a constant, other plugins as texture nodes.
+fn texture_object(c: &Converter, t: &Object) -> Result<TextureDesc> {
+    if t.class == "texture" && t.plugin == "rawconstant" {
+        let value = match t.prop("value").map(|p| &p.value) {
+            Some(super::super::document::Value::Vector(_)) => {
+                TextureDesc::Rgb(t.vector("value")?.expect("present").map(|x| x as f32))
+            }
+            Some(_) => TextureDesc::Value(t.float("value")?.expect("present") as f32),
+            None => TextureDesc::Value(1.0),
+        };
+        t.finish()?;
+        return Ok(value);
+    }
+    Ok(TextureDesc::Texture(texture_node(c, t)?))
 }
 
 /// A colour that must be constant over the surface (indices, light colours).
@@ -364,6 +434,16 @@ pub(super) fn texture_node(c: &Converter, t: &Object) -> Result<TextureNode> {
                     )));
                 }
             };
+            // Storage precision only (Mitsuba's half, single or the variant's precision): values
+            // are kept in f32 here whatever it says.
+            if let Some(format) = t.string("format")? {
+                if !matches!(format, "auto" | "variant" | "fp16" | "fp32") {
+                    let p = t.prop("format").expect("read above");
+                    return Err(p.error(format!(
+                        "unknown format \"{format}\" (auto, variant, fp16 or fp32)"
+                    )));
+                }
+            }
             TextureNode::Bitmap {
                 file,
                 filter,
@@ -382,9 +462,16 @@ pub(super) fn texture_node(c: &Converter, t: &Object) -> Result<TextureNode> {
                 to_uv,
             }
         }
+        "mesh_attribute" => {
+            let Some(name) = t.string("name")? else {
+                return Err(t.error("expected the attribute's \"name\""));
+            };
+            TextureNode::MeshAttribute { name: name.into() }
+        }
         p => {
             return Err(t.error(format!(
-                "unsupported texture plugin \"{p}\" (supported: bitmap, checkerboard)"
+                "unsupported texture plugin \"{p}\" (supported: bitmap, checkerboard, \
+                 mesh_attribute, rawconstant)"
             )))
         }
     };

@@ -317,7 +317,7 @@ fn f_target(f: &Object, child: &super::document::Child) -> Result<Rc<Object>> {
 }
 
 fn sampler_desc(s: &Object, render: &mut RenderDesc) -> Result<()> {
-    render.sampler = match s.plugin.as_str() {
+    render.sampler = Some(match s.plugin.as_str() {
         "independent" => SamplerName::Independent,
         // Appel's one low-discrepancy sampler stands for Mitsuba's stratified ones.
         "stratified" | "multijitter" | "ldsampler" => SamplerName::Sobol,
@@ -327,7 +327,7 @@ fn sampler_desc(s: &Object, render: &mut RenderDesc) -> Result<()> {
                  multijitter, ldsampler)"
             )))
         }
-    };
+    });
     render.spp = s.int_in("sample_count", 1..=65536)?.unwrap_or(4) as u32;
     render.seed = s.int_in("seed", 0..=i64::MAX)?.unwrap_or(0) as u64;
     s.finish()

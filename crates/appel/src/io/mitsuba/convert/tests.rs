@@ -60,6 +60,13 @@ fn every_scene_with_supported_plugins_converts() {
         "bsdf_spheres/test_texturedprincipled1_path.xml",
         "bsdf_spheres/test_texturedprincipled2_path.xml",
         "bsdf_spheres/test_texturedprincipledthin_path.xml",
+        "bsdf_spheres/test_normalmap_path.xml",
+        "bsdf_spheres/test_normalmap_roughconductor_path.xml",
+        "bsdf_spheres/test_normalmap_identity_roughconductor_path.xml",
+        "bsdf_spheres/test_bumpmap_path.xml",
+        "mesh_attributes/test_mesh_attributes_1_face_direct.xml",
+        "mesh_attributes/test_mesh_attributes_3_face_direct.xml",
+        "mesh_attributes/test_mesh_attributes_3_vertex_direct.xml",
     ] {
         let Some(d) = load(&format!("{SCENES}/{rel}")) else {
             return;
@@ -78,22 +85,19 @@ fn every_scene_with_supported_plugins_converts() {
 
 #[test]
 fn plugins_appel_lacks_fail_at_their_line() {
-    for (rel, line, plugin) in [
-        ("test_bumpmap_path.xml", 7, "bumpmap"),
-        ("test_normalmap_path.xml", 7, "normalmap"),
-    ] {
-        let Some(path) = shared(&format!("{SCENES}/bsdf_spheres/{rel}")) else {
-            return;
-        };
-        let e = load_xml(&path, &XmlOptions::default())
-            .unwrap_err()
-            .to_string();
-        let at = format!(
-            "{}:{line}:9: <bsdf type=\"{plugin}\">: unsupported BSDF plugin",
-            path.display()
-        );
-        assert!(e.starts_with(&at), "{e}");
-    }
+    let Some(path) = shared(&format!(
+        "{SCENES}/various_shapes/test_various_shapes_path.xml"
+    )) else {
+        return;
+    };
+    let e = load_xml(&path, &XmlOptions::default())
+        .unwrap_err()
+        .to_string();
+    let at = format!(
+        "{}:57:5: <shape type=\"cylinder\">: unsupported shape plugin",
+        path.display()
+    );
+    assert!(e.starts_with(&at), "{e}");
 }
 
 #[test]
@@ -114,7 +118,7 @@ fn cornell_box() {
         (IntegratorName::Path, 65, 64)
     );
     assert_eq!(r.filter, FilterDesc::Tent { radius: 1.0 });
-    assert_eq!(r.sampler, SamplerName::Independent);
+    assert_eq!(r.sampler, Some(SamplerName::Independent));
     // Eight rectangles and cubes, the light among them.
     assert_eq!(d.shapes.len(), 8);
     let light = d.shapes.iter().find(|s| s.emitter().is_some()).unwrap();
@@ -373,10 +377,10 @@ fn malformed_scenes_fail_at_their_line() {
     let e = err("<scene version=\"3.0.0\">\n<shape type=\"sphere\"/></scene>");
     assert!(e.contains("the scene has no <sensor>"), "{e}");
     let e = err(&format!(
-        "<scene version=\"3.0.0\">{CAMERA}\n<emitter type=\"projector\"/></scene>"
+        "<scene version=\"3.0.0\">{CAMERA}\n<emitter type=\"sunsky\"/></scene>"
     ));
     assert!(
-        e.starts_with("scene.xml:2:1: <emitter type=\"projector\">: unsupported emitter plugin"),
+        e.starts_with("scene.xml:2:1: <emitter type=\"sunsky\">: unsupported emitter plugin"),
         "{e}"
     );
 }

@@ -1,0 +1,393 @@
+//! The deterministic integrators: ray casting (Appel 1968) shades the first hit locally; Whitted
+//! (1980) adds recursively traced reflected and refracted rays. They read only the film position
+//! from the sampler, so the camera rays of a row are traced together.
+
+use super::integrator::{
+    aov_of, camera_ray, centre_aov, is_pixel_centre, surface_hit, FilmSample, Integrator, PixelRow,
+    SurfaceHit,
+};
+use super::optics::{fresnel_dielectric, reflect, refract};
+use super::sampler::Sampler;
+use super::{PixelAov, TraceContext};
+use crate::geometry::SurfaceInteraction;
+use crate::math::{offset_ray_origin_to_side, Ray, Vec2, Vec3};
+use crate::scene::Material;
+use crate::scene::{Light, Scene, SceneHit};
+
+/// Shadow rays towards a point light stop this fraction short of it (pbrt-v4's `ShadowEpsilon`):
+/// relative to the segment, so it is scale-free.
+const SHADOW_EPSILON: f32 = 1e-4;
+
+/// One eye ray per pixel, one shadow ray per light, local shading only.
+pub struct Raycast;
+
+/// Recursive ray tracing to `max_depth` specular bounces.
+pub struct Whitted {
+    pub max_depth: u32,
+}
+
+/// Integrators that need no random numbers after the film position: everything follows from the
+/// camera ray's closest hit.
+trait ShadeFirstHit: Sync {
+    /// Radiance arriving along the camera ray `ray`, whose closest hit and surface are `hit`.
+    fn radiance(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: Option<&SurfaceHit>,
+        ctx: &mut TraceContext,
+    ) -> Vec3;
+}
+
+impl ShadeFirstHit for Raycast {
+    fn radiance(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: Option<&SurfaceHit>,
+        ctx: &mut TraceContext,
+    ) -> Vec3 {
+        let Some(h) = hit else {
+            return scene.background;
+        };
+        let mut origins = Origins::new(&h.si);
+        shade_locally(
+            scene,
+            scene.material(&h.hit),
+            &h.si,
+            -ray.dir,
+            &mut origins,
+            ctx,
+        )
+    }
+}
+
+impl ShadeFirstHit for Whitted {
+    fn radiance(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: Option<&SurfaceHit>,
+        ctx: &mut TraceContext,
+    ) -> Vec3 {
+        self.trace(scene, ray, hit, 0, ctx)
+    }
+}
+
+/// Pixels of a row whose camera rays are intersected together.
+const ROW_CHUNK: usize = 16;
+
+/// One sample: the camera ray's hit, its AOVs, its shading.
+#[inline]
+fn sample_first_hit<T: ShadeFirstHit, S: Sampler>(
+    integrator: &T,
+    scene: &Scene,
+    x: u32,
+    y: u32,
+    sampler: &mut S,
+    aov: Option<&mut PixelAov>,
+    ctx: &mut TraceContext,
+) -> FilmSample {
+    let (pos, ray) = camera_ray(scene, x, y, sampler);
+    ctx.rays.camera += 1;
+    let hit = scene.intersect(&ray, f32::INFINITY, &mut ctx.traversal);
+    shade_camera_hit(integrator, scene, x, y, pos, &ray, hit, aov, ctx)
+}
+
+/// The camera rays of a row's samples intersected together (in packets where the structure has
+/// them), then shaded one by one: the same results as [`sample_first_hit`] on each.
+fn sample_row_first_hit<T: ShadeFirstHit, S: Sampler>(
+    integrator: &T,
+    scene: &Scene,
+    row: PixelRow,
+    sampler: &mut S,
+    out: &mut [FilmSample],
+    mut aovs: Option<&mut [PixelAov]>,
+    ctx: &mut TraceContext,
+) {
+    for (c, out) in out.chunks_mut(ROW_CHUNK).enumerate() {
+        let n = out.len();
+        let x0 = row.x0 + (c * ROW_CHUNK) as u32;
+        let mut pos = [Vec2::ZERO; ROW_CHUNK];
+        let rays: [Ray; ROW_CHUNK] = std::array::from_fn(|i| {
+            // Past the row's end, copies of its last ray (never traced).
+            let x = x0 + i.min(n - 1) as u32;
+            sampler.start_pixel_sample(x, row.y, row.index);
+            let (p, ray) = camera_ray(scene, x, row.y, sampler);
+            pos[i] = p;
+            ray
+        });
+        let mut hits = [None; ROW_CHUNK];
+        scene.intersect_coherent(
+            &rays[..n],
+            f32::INFINITY,
+            &mut hits[..n],
+            &mut ctx.traversal,
+        );
+        ctx.rays.camera += n as u64;
+        for (i, o) in out.iter_mut().enumerate() {
+            let aov = aovs.as_deref_mut().map(|a| &mut a[c * ROW_CHUNK + i]);
+            *o = shade_camera_hit(
+                integrator,
+                scene,
+                x0 + i as u32,
+                row.y,
+                pos[i],
+                &rays[i],
+                hits[i],
+                aov,
+                ctx,
+            );
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn shade_camera_hit<T: ShadeFirstHit>(
+    integrator: &T,
+    scene: &Scene,
+    x: u32,
+    y: u32,
+    pos: Vec2,
+    ray: &Ray,
+    hit: Option<SceneHit>,
+    aov: Option<&mut PixelAov>,
+    ctx: &mut TraceContext,
+) -> FilmSample {
+    let hit = hit.map(|h| surface_hit(scene, ray, h));
+    if let Some(aov) = aov {
+        // The AOVs describe the pixel centre: this ray's hit when the sample is there.
+        *aov = if is_pixel_centre(pos, x, y) {
+            aov_of(scene, hit.as_ref())
+        } else {
+            centre_aov(scene, x, y, ctx)
+        };
+    }
+    FilmSample {
+        pos,
+        radiance: integrator.radiance(scene, ray, hit.as_ref(), ctx),
+    }
+}
+
+macro_rules! first_hit_integrator {
+    ($t:ty) => {
+        impl Integrator for $t {
+            #[inline]
+            fn sample<S: Sampler>(
+                &self,
+                scene: &Scene,
+                x: u32,
+                y: u32,
+                sampler: &mut S,
+                aov: Option<&mut PixelAov>,
+                ctx: &mut TraceContext,
+            ) -> FilmSample {
+                sample_first_hit(self, scene, x, y, sampler, aov, ctx)
+            }
+
+            fn sample_row<S: Sampler>(
+                &self,
+                scene: &Scene,
+                row: PixelRow,
+                sampler: &mut S,
+                out: &mut [FilmSample],
+                aovs: Option<&mut [PixelAov]>,
+                ctx: &mut TraceContext,
+            ) {
+                sample_row_first_hit(self, scene, row, sampler, out, aovs, ctx)
+            }
+        }
+    };
+}
+
+first_hit_integrator!(Raycast);
+first_hit_integrator!(Whitted);
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Bounce {
+    Reflection,
+    Refraction,
+}
+
+impl Whitted {
+    fn trace(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        hit: Option<&SurfaceHit>,
+        depth: u32,
+        ctx: &mut TraceContext,
+    ) -> Vec3 {
+        let Some(SurfaceHit { hit, si }) = hit else {
+            return scene.background;
+        };
+        let m = scene.material(hit);
+        let wo = -ray.dir;
+        let mut origins = Origins::new(si);
+        let mut color = shade_locally(scene, m, si, wo, &mut origins, ctx);
+        if depth >= self.max_depth || !m.is_specular() {
+            return color;
+        }
+        // Normals on the side the ray arrives from.
+        let entering = ray.dir.dot(si.n) < 0.0;
+        let ns = if si.ns.dot(wo) < 0.0 { -si.ns } else { si.ns };
+        let mut kr = m.reflection;
+        let mut kt = m.transmission;
+        let mut refracted = None;
+        if kt > 0.0 {
+            // eta = n_incident / n_transmitted; the outside is taken to be vacuum (no nested media).
+            let eta = if entering { 1.0 / m.ior } else { m.ior };
+            match refract(ray.dir, ns, eta) {
+                None => {
+                    // Total internal reflection: everything transmitted is reflected instead.
+                    kr += kt;
+                    kt = 0.0;
+                }
+                Some(t) => {
+                    if m.fresnel {
+                        let f = fresnel_dielectric(ns.dot(wo), eta);
+                        kr += kt * f;
+                        kt *= 1.0 - f;
+                    }
+                    refracted = Some(t);
+                }
+            }
+        }
+        if kr > 0.0 {
+            let dir = reflect(ray.dir, ns);
+            let origin = origins.towards(dir);
+            color += kr * self.spawn(scene, origin, dir, depth, Bounce::Reflection, ctx);
+        }
+        if let (Some(dir), true) = (refracted, kt > 0.0) {
+            let origin = origins.towards(dir);
+            color += kt * self.spawn(scene, origin, dir, depth, Bounce::Refraction, ctx);
+        }
+        color
+    }
+
+    fn spawn(
+        &self,
+        scene: &Scene,
+        origin: Vec3,
+        dir: Vec3,
+        depth: u32,
+        kind: Bounce,
+        ctx: &mut TraceContext,
+    ) -> Vec3 {
+        match kind {
+            Bounce::Reflection => ctx.rays.reflection += 1,
+            Bounce::Refraction => ctx.rays.refraction += 1,
+        }
+        let ray = Ray::new(origin, dir);
+        let hit = scene
+            .intersect(&ray, f32::INFINITY, &mut ctx.traversal)
+            .map(|h| surface_hit(scene, &ray, h));
+        self.trace(scene, &ray, hit.as_ref(), depth + 1, ctx)
+    }
+}
+
+/// Whitted's local model: ambient, plus Lambertian diffuse and a Blinn-Phong highlight from every
+/// light a shadow ray reaches. Surfaces are two-sided: normals are turned towards the viewer.
+pub fn local_shading(
+    scene: &Scene,
+    m: &Material,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    ctx: &mut TraceContext,
+) -> Vec3 {
+    shade_locally(scene, m, si, wo, &mut Origins::new(si), ctx)
+}
+
+/// The origins of the rays leaving one shading point: [`crate::math::offset_ray_origin`] depends on
+/// the direction only through the side of the surface it points to, so each side's origin is
+/// computed at most once and shared by the shadow rays and the reflected and refracted rays.
+struct Origins<'a> {
+    si: &'a SurfaceInteraction,
+    above: Option<Vec3>,
+    below: Option<Vec3>,
+}
+
+impl<'a> Origins<'a> {
+    #[inline]
+    fn new(si: &'a SurfaceInteraction) -> Self {
+        Self {
+            si,
+            above: None,
+            below: None,
+        }
+    }
+
+    /// `offset_ray_origin(si.p, si.p_error, si.n, w)`, the same value.
+    #[inline]
+    fn towards(&mut self, w: Vec3) -> Vec3 {
+        let si = self.si;
+        let below = w.dot(si.n) < 0.0;
+        let slot = if below {
+            &mut self.below
+        } else {
+            &mut self.above
+        };
+        *slot.get_or_insert_with(|| offset_ray_origin_to_side(si.p, si.p_error, si.n, below))
+    }
+}
+
+fn shade_locally(
+    scene: &Scene,
+    m: &Material,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    origins: &mut Origins,
+    ctx: &mut TraceContext,
+) -> Vec3 {
+    let albedo = m.albedo(si.uv);
+    let mut color = m.ambient * scene.ambient * albedo;
+    if m.diffuse == 0.0 && m.specular == 0.0 {
+        return color;
+    }
+    let wo = wo.normalize();
+    let ns = if si.ns.dot(wo) < 0.0 { -si.ns } else { si.ns };
+    for light in &scene.lights {
+        // Direction and radiance first: the shadow ray is only built for a light that can reach
+        // this side of the surface.
+        let (wi, radiance, target) = match *light {
+            Light::Point {
+                position,
+                intensity,
+            } => {
+                let to_light = position - si.p;
+                let d2 = to_light.length_squared();
+                if d2 == 0.0 {
+                    continue;
+                }
+                (to_light / d2.sqrt(), intensity / d2, Some(position))
+            }
+            Light::Directional {
+                direction,
+                radiance,
+            } => (-direction, radiance, None),
+        };
+        let cos = ns.dot(wi);
+        // A light behind the shading normal, or below the geometric surface, cannot light this side.
+        if cos <= 0.0 || si.n.dot(wi) * si.n.dot(wo) <= 0.0 {
+            continue;
+        }
+        let origin = origins.towards(wi);
+        let (shadow_ray, t_max) = match target {
+            Some(position) => (Ray::new(origin, position - origin), 1.0 - SHADOW_EPSILON),
+            None => (Ray::new(origin, wi), f32::INFINITY),
+        };
+        ctx.rays.shadow += 1;
+        if scene.occluded(&shadow_ray, t_max, &mut ctx.traversal) {
+            continue;
+        }
+        let h = (wi + wo).normalize();
+        let highlight = if m.specular > 0.0 {
+            m.specular * ns.dot(h).max(0.0).powf(m.shininess)
+        } else {
+            0.0
+        };
+        color += radiance * (m.diffuse * cos * albedo + Vec3::splat(highlight));
+    }
+    color
+}
