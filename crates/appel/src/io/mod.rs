@@ -7,6 +7,7 @@ pub mod gltf;
 pub mod mesh_file;
 pub mod mitsuba;
 pub mod obj;
+pub mod pbrt;
 pub mod placements;
 pub mod ply;
 pub mod points;

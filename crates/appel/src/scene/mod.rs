@@ -127,6 +127,8 @@ pub struct Scene {
 pub struct LoadedDescription {
     pub description: Description,
     pub base_dir: PathBuf,
+    /// What the reader noticed but could render (pbrt's unused parameters).
+    pub warnings: Vec<String>,
 }
 
 /// Reads and validates a scene file (TOML, or JSON by extension, or a Mitsuba 3 `.xml`).
@@ -134,10 +136,13 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
     if is_xml(path) {
         return load_xml_description(path, &crate::io::mitsuba::XmlOptions::default());
     }
+    if crate::io::pbrt::is_pbrt(path) {
+        return load_pbrt_description(path);
+    }
     let syntax = Syntax::from_path(path).ok_or_else(|| {
         Error::input(
             Location::file(path),
-            "unknown scene file extension: expected .toml, .json or .xml",
+            "unknown scene file extension: expected .toml, .json, .xml or .pbrt",
         )
     })?;
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
@@ -157,6 +162,7 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
     Ok(LoadedDescription {
         description,
         base_dir,
+        warnings: Vec::new(),
     })
 }
 
@@ -192,6 +198,33 @@ pub fn load_xml_description(
     Ok(LoadedDescription {
         description,
         base_dir,
+        warnings: Vec::new(),
+    })
+}
+
+/// Reads and validates a pbrt-v4 scene file (see `io::pbrt` and docs/pbrt.md). Its file names
+/// come out absolute; the warnings list the parameters the scene gives and nothing read, as
+/// pbrt reports them.
+pub fn load_pbrt_description(path: &Path) -> Result<LoadedDescription> {
+    let scene = crate::io::pbrt::load_pbrt(path)?;
+    let base_dir = path
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let at_file = |invalid: validate::Invalid| {
+        let message = format!(
+            "in the converted scene, {}: {}",
+            path_string(&invalid.path),
+            invalid.message
+        );
+        Error::input(Location::file(path), message)
+    };
+    validate::validate(&scene.description).map_err(at_file)?;
+    validate::files(&scene.description, &base_dir).map_err(at_file)?;
+    Ok(LoadedDescription {
+        description: scene.description,
+        base_dir,
+        warnings: scene.warnings,
     })
 }
 
@@ -358,7 +391,10 @@ impl Scene {
                             .normals
                             .as_ref()
                             .map(|n| n.iter().map(|&n| glam::Vec3::from(n)).collect()),
-                        uvs: t.uvs.as_ref().map(|u| u.iter().map(|&u| u.into()).collect()),
+                        uvs: t
+                            .uvs
+                            .as_ref()
+                            .map(|u| u.iter().map(|&u| u.into()).collect()),
                     };
                     let m = t
                         .transform

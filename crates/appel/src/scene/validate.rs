@@ -642,13 +642,11 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         }
         ShapeDesc::TriangleMesh(m) => {
             // Named by index rather than printed whole: the arrays may be long.
-            let all_finite = |key: &str, v: &[f32], per: usize| match v
-                .iter()
-                .position(|x| !x.is_finite())
-            {
-                Some(i) => c.fail(key, format!("`{key}[{}]` is not finite", i / per)),
-                None => Ok(()),
-            };
+            let all_finite =
+                |key: &str, v: &[f32], per: usize| match v.iter().position(|x| !x.is_finite()) {
+                    Some(i) => c.fail(key, format!("`{key}[{}]` is not finite", i / per)),
+                    None => Ok(()),
+                };
             all_finite("positions", m.positions.as_flattened(), 3)?;
             let n = m.positions.len();
             if let Some(bad) = m.indices.iter().flatten().find(|&&i| i as usize >= n) {

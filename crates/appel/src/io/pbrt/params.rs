@@ -115,9 +115,7 @@ impl Param {
             ))
         })?;
         let values = match ty {
-            ParamType::String | ParamType::Texture => {
-                Values::Strings(strings(&raw, ty, name)?)
-            }
+            ParamType::String | ParamType::Texture => Values::Strings(strings(&raw, ty, name)?),
             ParamType::Bool => Values::Bools(
                 raw.iter()
                     .map(|(v, at)| match v {
@@ -140,11 +138,12 @@ impl Param {
                     .map(|(v, at)| number(v, at, ty, name))
                     .collect::<Result<Vec<f64>>>()?;
                 if ty == ParamType::Integer {
-                    if let Some((_, at)) = raw.iter().zip(&numbers).find(|(_, x)| x.fract() != 0.0)
+                    if let Some(((_, at), _)) =
+                        raw.iter().zip(&numbers).find(|(_, x)| x.fract() != 0.0)
                     {
-                        return Err(at
-                            .1
-                            .error(format!("\"integer {name}\" takes whole numbers only")));
+                        return Err(
+                            at.error(format!("\"integer {name}\" takes whole numbers only"))
+                        );
                     }
                 }
                 let n = ty.arity();
@@ -200,12 +199,8 @@ fn strings(raw: &[(RawValue, Loc)], ty: ParamType, name: &str) -> Result<Vec<Str
 
 fn number(v: &RawValue, at: &Loc, ty: ParamType, name: &str) -> Result<f64> {
     match v {
-        RawValue::Word(w) => parse_number(w).ok_or_else(|| {
-            at.error(format!(
-                "bad number \"{w}\" in \"{} {name}\"",
-                ty.name()
-            ))
-        }),
+        RawValue::Word(w) => parse_number(w)
+            .ok_or_else(|| at.error(format!("bad number \"{w}\" in \"{} {name}\"", ty.name()))),
         RawValue::Str(s) => Err(at.error(format!(
             "wrong parameter type: \"{} {name}\" takes numbers, got the string \"{s}\"",
             ty.name()
@@ -266,18 +261,13 @@ impl ParamSet {
             Values::Bools(v) => v.len(),
         };
         if n != 1 {
-            return Err(p.error(format!(
-                "\"{} {name}\" takes one value, got {n}",
-                ty.name()
-            )));
+            return Err(p.error(format!("\"{} {name}\" takes one value, got {n}", ty.name())));
         }
         Ok(Some(p))
     }
 
     pub fn float(&self, name: &str) -> Result<Option<f64>> {
-        Ok(self
-            .single(name, ParamType::Float)?
-            .map(|p| p.numbers()[0]))
+        Ok(self.single(name, ParamType::Float)?.map(|p| p.numbers()[0]))
     }
 
     pub fn float_or(&self, name: &str, default: f64) -> Result<f64> {

@@ -63,6 +63,8 @@ pub struct Parser {
     stack: Vec<Tokenizer>,
     peeked: Option<Token>,
     base_dir: PathBuf,
+    /// Where the last token read starts, for errors about the end of the scene.
+    last: Loc,
 }
 
 /// The text of a scene file, gunzipped if its name ends in `.gz`.
@@ -93,6 +95,11 @@ impl Parser {
         Self {
             stack: vec![Tokenizer::new(text, file)],
             peeked: None,
+            last: Loc {
+                file: std::rc::Rc::new(file.to_path_buf()),
+                line: 1,
+                column: 1,
+            },
             base_dir: file.parent().map(Path::to_path_buf).unwrap_or_default(),
         }
     }
@@ -103,12 +110,18 @@ impl Parser {
         self.base_dir.join(name)
     }
 
+    /// Where the last token read starts.
+    pub fn end_loc(&self) -> Loc {
+        self.last.clone()
+    }
+
     fn next(&mut self) -> Result<Option<Token>> {
         if let Some(t) = self.peeked.take() {
             return Ok(Some(t));
         }
         while let Some(top) = self.stack.last_mut() {
             if let Some(t) = top.next_token()? {
+                self.last = t.loc.clone();
                 return Ok(Some(t));
             }
             self.stack.pop();
@@ -133,7 +146,9 @@ impl Parser {
                 return Ok(Some(d));
             }
             if self.stack.len() >= MAX_INCLUDE_DEPTH {
-                return Err(d.loc.error("includes nest too deep (does a file include itself?)"));
+                return Err(d
+                    .loc
+                    .error("includes nest too deep (does a file include itself?)"));
             }
             let path = self.resolve(&d.strings[0]);
             if !path.is_file() {
@@ -168,9 +183,8 @@ impl Parser {
             }
         };
         let loc = t.loc;
-        let shape = shape_of(&name).ok_or_else(|| {
-            loc.error(format!("unknown directive \"{name}\""))
-        })?;
+        let shape =
+            shape_of(&name).ok_or_else(|| loc.error(format!("unknown directive \"{name}\"")))?;
         let mut d = Directive {
             name,
             loc,
@@ -191,7 +205,13 @@ impl Parser {
             }
             Shape::OneOrTwoNames => {
                 d.strings.push(self.name(&d)?);
-                if matches!(self.peek()?, Some(Token { tok: Tok::Str(_), .. })) {
+                if matches!(
+                    self.peek()?,
+                    Some(Token {
+                        tok: Tok::Str(_),
+                        ..
+                    })
+                ) {
                     d.strings.push(self.name(&d)?);
                 }
             }
@@ -215,9 +235,10 @@ impl Parser {
                 d.name,
                 describe(&t.tok)
             ))),
-            None => Err(d
-                .loc
-                .error(format!("{} expects a quoted name, found the end of the file", d.name))),
+            None => Err(d.loc.error(format!(
+                "{} expects a quoted name, found the end of the file",
+                d.name
+            ))),
         }
     }
 
@@ -240,9 +261,10 @@ impl Parser {
             })?;
             match t.tok {
                 Tok::Close if bracketed => break,
-                Tok::Word(w) => out.push(parse_number(&w).ok_or_else(|| {
-                    t.loc.error(format!("bad number \"{w}\" in {}", d.name))
-                })?),
+                Tok::Word(w) => out.push(
+                    parse_number(&w)
+                        .ok_or_else(|| t.loc.error(format!("bad number \"{w}\" in {}", d.name)))?,
+                ),
                 other => {
                     return Err(t.loc.error(format!(
                         "{} needs {n} numbers, found {}",
@@ -253,11 +275,9 @@ impl Parser {
             }
         }
         if out.len() != n {
-            return Err(d.loc.error(format!(
-                "{} needs {n} numbers, got {}",
-                d.name,
-                out.len()
-            )));
+            return Err(d
+                .loc
+                .error(format!("{} needs {n} numbers, got {}", d.name, out.len())));
         }
         Ok(out)
     }
@@ -275,13 +295,15 @@ impl Parser {
             };
             let loc = t.loc;
             let mut raw = Vec::new();
-            let v = self.next()?.ok_or_else(|| {
-                loc.error(format!("parameter \"{decl}\" has no value"))
-            })?;
+            let v = self
+                .next()?
+                .ok_or_else(|| loc.error(format!("parameter \"{decl}\" has no value")))?;
             match v.tok {
                 Tok::Open => loop {
                     let t = self.next()?.ok_or_else(|| {
-                        loc.error(format!("parameter \"{decl}\": no ']' before the end of the file"))
+                        loc.error(format!(
+                            "parameter \"{decl}\": no ']' before the end of the file"
+                        ))
                     })?;
                     match t.tok {
                         Tok::Close => break,
@@ -292,7 +314,9 @@ impl Parser {
                 },
                 Tok::Word(w) => raw.push((RawValue::Word(w), v.loc)),
                 Tok::Str(s) => raw.push((RawValue::Str(s), v.loc)),
-                Tok::Close => return Err(v.loc.error(format!("parameter \"{decl}\" has no value"))),
+                Tok::Close => {
+                    return Err(v.loc.error(format!("parameter \"{decl}\" has no value")))
+                }
             }
             let p = Param::new(&decl, raw, loc)?;
             if set.params.iter().any(|q| q.name == p.name) {
