@@ -51,7 +51,7 @@ impl Converter {
             "spot" => {
                 let cone = p.float_or("coneangle", 30.0)?;
                 let delta = p.float_or("conedelta", 5.0)?;
-                if !(cone > 0.0 && cone <= 90.0) || !(0.0..=cone).contains(&delta) {
+                if !(cone > 0.0 && cone <= 90.0 && (0.0..=cone).contains(&delta)) {
                     return Err(d.loc.error(format!(
                         "a spot's coneangle must be in (0, 90] and its conedelta in [0, \
                          coneangle], got {cone} and {delta}"

@@ -344,7 +344,7 @@ impl Converter {
                 rgb.iter().map(|&x| x as f64).sum::<f64>() / 3.0
             }
         };
-        if !(eta > 0.0) {
+        if eta <= 0.0 {
             return Err(p.get(name).expect("read").error(format!(
                 "the index of refraction must be positive, got {eta}"
             )));
@@ -362,7 +362,7 @@ impl Converter {
                 None => Ok(None),
                 Some(q) if q.ty == ParamType::Float => {
                     let v = q.numbers()[0];
-                    if !(v >= 0.0) {
+                    if v < 0.0 {
                         return Err(q.error(format!("roughness must not be negative, got {v}")));
                     }
                     Ok(Some(v))

@@ -293,7 +293,7 @@ impl Converter {
             "plymesh" => self.ply(d)?,
             "sphere" => {
                 let radius = p.float_or("radius", 1.0)?;
-                if !(radius > 0.0) {
+                if radius <= 0.0 {
                     return Err(d
                         .loc
                         .error(format!("the radius must be positive, got {radius}")));
@@ -313,7 +313,7 @@ impl Converter {
             "disk" => {
                 let radius = p.float_or("radius", 1.0)?;
                 let height = p.float_or("height", 0.0)?;
-                if !(radius > 0.0) {
+                if radius <= 0.0 {
                     return Err(d
                         .loc
                         .error(format!("the radius must be positive, got {radius}")));

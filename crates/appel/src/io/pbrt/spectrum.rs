@@ -74,7 +74,7 @@ pub fn rgb_of(p: &Param, use_: Use, base_dir: &Path) -> Result<[f32; 3]> {
                 )));
             }
             let t = p.numbers()[0];
-            if p.numbers().len() != 1 || !(t > 0.0) {
+            if p.numbers().len() != 1 || t <= 0.0 {
                 return Err(p.error("a blackbody takes one positive temperature in kelvin"));
             }
             per_nit(p, pairs_to_rgb(&planck(t), SpectrumUse::Emission))?
@@ -93,7 +93,7 @@ pub fn rgb_of(p: &Param, use_: Use, base_dir: &Path) -> Result<[f32; 3]> {
 /// Scales an emitted colour to luminance 1.
 fn per_nit(p: &Param, rgb: [f64; 3]) -> Result<[f64; 3]> {
     let y = 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-    if !(y > 0.0) {
+    if y.is_nan() || y <= 0.0 {
         return Err(p.error(format!("\"{}\" emits no visible light", p.name)));
     }
     Ok(rgb.map(|x| x / y))
