@@ -33,7 +33,13 @@ pub struct PbrtScene {
 /// Reads a pbrt-v4 scene file (or `.pbrt.gz`); file names in the description are absolute.
 pub fn load_pbrt(path: &Path) -> Result<PbrtScene> {
     let text = parser::read_text(path, None)?;
-    convert::convert(&text, path)
+    pbrt_from_str(&text, path)
+}
+
+/// Reads pbrt-v4 scene text as if it were the file `path` (which names it in errors and whose
+/// folder resolves relative file names).
+pub fn pbrt_from_str(text: &str, path: &Path) -> Result<PbrtScene> {
+    convert::convert(text, path)
 }
 
 /// Whether the file name says pbrt (`.pbrt`, `.pbrt.gz`).
