@@ -384,27 +384,7 @@ impl Scene {
                     geometry.push_mesh(mesh, material);
                 }
                 ShapeDesc::TriangleMesh(t) => {
-                    let mesh = TriangleMesh {
-                        positions: t.positions.iter().map(|&p| p.into()).collect(),
-                        indices: t.indices.clone(),
-                        normals: t
-                            .normals
-                            .as_ref()
-                            .map(|n| n.iter().map(|&n| glam::Vec3::from(n)).collect()),
-                        uvs: t
-                            .uvs
-                            .as_ref()
-                            .map(|u| u.iter().map(|&u| u.into()).collect()),
-                    };
-                    let m = t
-                        .transform
-                        .as_ref()
-                        .map_or(glam::Mat4::IDENTITY, |t| t.matrix());
-                    let mut mesh = basic_meshes::transformed(mesh, m);
-                    if t.flip_normals {
-                        basic_meshes::flip_normals(&mut mesh);
-                    }
-                    geometry.push_mesh(mesh, material);
+                    geometry.push_mesh(basic_meshes::inline_mesh(t), material);
                 }
                 ShapeDesc::Mesh(m) => {
                     mesh_shape::add_mesh_file(

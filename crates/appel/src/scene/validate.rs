@@ -128,8 +128,21 @@ pub fn validate(d: &Description) -> Result<(), Invalid> {
     for (name, m) in &d.meshes {
         c.at(key("meshes"), |c| {
             c.at(key(name), |c| {
-                if m.file.is_empty() {
-                    return c.fail("file", "`file` must name a mesh file");
+                if m.file.is_empty() == m.triangles.is_empty() {
+                    return c.fail(
+                        "file",
+                        "give `file` (a mesh file) or `triangles`, one of them",
+                    );
+                }
+                for (i, t) in m.triangles.iter().enumerate() {
+                    c.at(key("triangles"), |c| {
+                        c.at(PathSeg::Index(i), |c| {
+                            if t.emitter.is_some() {
+                                return c.fail("emitter", "an instanced mesh cannot emit");
+                            }
+                            shape(c, d, &ShapeDesc::TriangleMesh(t.clone()))
+                        })
+                    })?;
                 }
                 material_name(c, d, m.material.as_deref())
             })
@@ -739,7 +752,7 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
             })
         }
     };
-    for (name, m) in &d.meshes {
+    for (name, m) in d.meshes.iter().filter(|(_, m)| !m.file.is_empty()) {
         exists(
             &m.file,
             "mesh file",

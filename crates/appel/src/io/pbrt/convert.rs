@@ -13,11 +13,13 @@
 use super::materials::Converted;
 use super::options::SceneOptions;
 use super::parser::{Directive, Parser};
-use super::shapes::Placed;
+use super::shapes::{Object, Placed};
 use super::tokenizer::Loc;
 use super::PbrtScene;
 use crate::error::Result;
-use crate::scene::description::{Description, LightDesc, MaterialDesc, ShapeDesc, TextureDesc};
+use crate::scene::description::{
+    Description, InstanceDesc, LightDesc, MaterialDesc, MeshDesc, ShapeDesc, TextureDesc,
+};
 use glam::{DMat4, DVec3};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -62,7 +64,9 @@ pub(super) struct Converter {
     pub spectrum_textures: HashMap<String, TextureDesc>,
     pub shapes: Vec<ShapeDesc>,
     pub lights: Vec<LightDesc>,
-    pub objects: HashMap<String, Vec<Placed>>,
+    pub objects: HashMap<String, Object>,
+    pub meshes: BTreeMap<String, MeshDesc>,
+    pub instances: Vec<InstanceDesc>,
     /// The object being defined between `ObjectBegin` and `ObjectEnd`.
     pub object: Option<(String, Vec<Placed>, Loc)>,
     pub warnings: Vec<String>,
@@ -93,6 +97,8 @@ pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
         shapes: Vec::new(),
         lights: Vec::new(),
         objects: HashMap::new(),
+        meshes: BTreeMap::new(),
+        instances: Vec::new(),
         object: None,
         warnings: Vec::new(),
         names: 0,
@@ -126,8 +132,8 @@ pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
             materials: std::mem::take(&mut c.materials),
             shapes: std::mem::take(&mut c.shapes),
             lights: std::mem::take(&mut c.lights),
-            meshes: BTreeMap::new(),
-            instances: Vec::new(),
+            meshes: std::mem::take(&mut c.meshes),
+            instances: std::mem::take(&mut c.instances),
         },
         warnings: c.warnings,
     })
@@ -363,10 +369,11 @@ impl Converter {
                 let Some((name, shapes, _)) = self.object.take() else {
                     return Err(d.loc.error("ObjectEnd without ObjectBegin"));
                 };
-                if self.objects.insert(name.clone(), shapes).is_some() {
+                if self.objects.contains_key(&name) {
                     return Err(d.loc.error(format!("object \"{name}\" is defined twice")));
                 }
                 self.pop(d, Scope::Attribute)?;
+                self.define_object(&name, shapes)?;
             }
             "ObjectInstance" => {
                 self.world_only(d)?;

@@ -16,8 +16,8 @@ use super::parser::Directive;
 use super::tokenizer::Loc;
 use crate::error::Result;
 use crate::scene::description::{
-    AreaEmitterDesc, BasicShapeDesc, ShapeDesc, SphereDesc, TextureDesc, TransformDesc,
-    TriangleMeshDesc,
+    AreaEmitterDesc, BasicShapeDesc, InstanceDesc, MeshDesc, ShapeDesc, SphereDesc, TextureDesc,
+    TransformDesc, TriangleMeshDesc,
 };
 use glam::{DMat4, DVec3};
 use std::rc::Rc;
@@ -38,6 +38,13 @@ pub(super) enum ObjectShape {
         height: f64,
         radius: f64,
     },
+}
+
+/// An object definition: its triangle meshes as one declared mesh, and its other shapes.
+#[derive(Clone, Debug)]
+pub(super) struct Object {
+    mesh: Option<String>,
+    others: Vec<Placed>,
 }
 
 /// A shape of an object definition, with the state it was declared in.
@@ -80,11 +87,44 @@ impl Converter {
         self.place(&placed, DMat4::IDENTITY, light.as_ref())
     }
 
-    /// `ObjectInstance`: the object's shapes placed by the CTM. Each placement is written out
-    /// as its own shapes.
+    /// `ObjectEnd`: the object's triangle meshes become one of Appel's declared meshes (a
+    /// prototype with its own acceleration structure, in the description's coordinates as
+    /// declared); its other shapes are kept to be written out at each placement.
+    pub(super) fn define_object(&mut self, name: &str, shapes: Vec<Placed>) -> Result<()> {
+        let mut triangles = Vec::new();
+        let mut others = Vec::new();
+        for s in shapes {
+            if matches!(*s.shape, ObjectShape::Mesh { .. }) {
+                if let Some(ShapeDesc::TriangleMesh(t)) = self.bake(&s, DMat4::IDENTITY, None)? {
+                    triangles.push(t);
+                }
+            } else {
+                others.push(s);
+            }
+        }
+        let mesh = (!triangles.is_empty()).then(|| {
+            let key = format!("object {name}");
+            self.meshes.insert(
+                key.clone(),
+                MeshDesc {
+                    file: String::new(),
+                    material: None,
+                    triangles,
+                },
+            );
+            key
+        });
+        self.objects
+            .insert(name.to_string(), Object { mesh, others });
+        Ok(())
+    }
+
+    /// `ObjectInstance`: the object placed by the CTM, as an instance of its mesh (the
+    /// description's coordinates are pbrt's mirrored by `mirror`, so the placement is
+    /// `mirror * CTM * mirror^-1`), and its other shapes written out.
     pub(super) fn object_instance(&mut self, d: &Directive) -> Result<()> {
         let name = &d.strings[0];
-        let shapes = self.objects.get(name).cloned().ok_or_else(|| {
+        let object = self.objects.get(name).cloned().ok_or_else(|| {
             d.loc
                 .error(format!("no object named \"{name}\" has been defined"))
         })?;
@@ -94,7 +134,18 @@ impl Converter {
                 .error("ObjectInstance inside ObjectBegin: objects do not nest"));
         }
         let instance = self.attrs.ctm;
-        for s in &shapes {
+        if let Some(mesh) = object.mesh {
+            let placement = self.mirror * instance * self.mirror.inverse();
+            self.instances.push(InstanceDesc {
+                mesh,
+                transform: Some(TransformDesc {
+                    matrix: Some(rows(&placement)),
+                    ..TransformDesc::default()
+                }),
+                placements: None,
+            });
+        }
+        for s in &object.others {
             self.place(s, instance, None)?;
         }
         Ok(())
@@ -102,6 +153,20 @@ impl Converter {
 
     /// Adds one shape to the description, placed by `instance * its own CTM`.
     fn place(&mut self, s: &Placed, instance: DMat4, light: Option<&AreaLight>) -> Result<()> {
+        if let Some(desc) = self.bake(s, instance, light)? {
+            self.shapes.push(desc);
+        }
+        Ok(())
+    }
+
+    /// One shape as the description holds it, placed by `instance * its own CTM`; `None` for
+    /// an invisible one (an `interface`).
+    fn bake(
+        &mut self,
+        s: &Placed,
+        instance: DMat4,
+        light: Option<&AreaLight>,
+    ) -> Result<Option<ShapeDesc>> {
         let material = match &s.material {
             Some(Converted::Interface) => {
                 // An interface only bounds a medium; without media there is nothing to see.
@@ -110,7 +175,7 @@ impl Converter {
                         "an area light on a shape whose material is \"interface\" (invisible)",
                     ));
                 }
-                return Ok(());
+                return Ok(None);
             }
             Some(Converted::Surface { name, .. }) => name.clone(),
             None => self.default_material(),
@@ -212,8 +277,7 @@ impl Converter {
                 })
             }
         };
-        self.shapes.push(desc);
-        Ok(())
+        Ok(Some(desc))
     }
 
     fn read_shape(&mut self, d: &Directive) -> Result<ObjectShape> {

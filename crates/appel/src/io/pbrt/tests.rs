@@ -207,3 +207,43 @@ fn checkerboards_map_pbrts_squares() {
         }))
     );
 }
+
+#[test]
+fn object_meshes_become_appel_instances() {
+    let s = load(&format!(
+        "{CAMERA}WorldBegin\nObjectBegin \"tri\"\nMaterial \"conductor\"\n\
+         Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]\nObjectEnd\n\
+         Translate 5 0 0\nObjectInstance \"tri\"\nScale 2 2 2\nObjectInstance \"tri\"\n"
+    ))
+    .unwrap();
+    let d = &s.description;
+    assert!(d.shapes.is_empty(), "{:?}", d.shapes);
+    let mesh = &d.meshes["object tri"];
+    assert!(mesh.file.is_empty());
+    assert_eq!(mesh.triangles.len(), 1);
+    assert_eq!(mesh.triangles[0].positions[1], [1.0, 0.0, 0.0]);
+    assert!(mesh.triangles[0].material.is_some());
+    let placed: Vec<[[f32; 4]; 4]> = d
+        .instances
+        .iter()
+        .map(|i| i.transform.as_ref().unwrap().matrix.unwrap())
+        .collect();
+    assert_eq!(
+        placed,
+        vec![
+            [
+                [1.0, 0.0, 0.0, 5.0],
+                [0.0, 1.0, 0.0, 0.0],
+                [0.0, 0.0, 1.0, 0.0],
+                [0.0, 0.0, 0.0, 1.0]
+            ],
+            [
+                [2.0, 0.0, 0.0, 5.0],
+                [0.0, 2.0, 0.0, 0.0],
+                [0.0, 0.0, 2.0, 0.0],
+                [0.0, 0.0, 0.0, 1.0]
+            ],
+        ]
+    );
+    crate::scene::validate::validate(d).unwrap();
+}
