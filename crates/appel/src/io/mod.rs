@@ -8,6 +8,7 @@ pub mod grid_volume;
 pub mod mesh_file;
 pub mod mitsuba;
 pub mod obj;
+pub mod pbrt;
 pub mod placements;
 pub mod ply;
 pub mod points;

@@ -110,6 +110,28 @@ pub fn disk() -> TriangleMesh {
     }
 }
 
+/// A `trianglemesh` shape's mesh, placed by its transform.
+pub fn inline_mesh(t: &crate::scene::description::TriangleMeshDesc) -> TriangleMesh {
+    let mesh = TriangleMesh {
+        positions: t.positions.iter().map(|&p| p.into()).collect(),
+        indices: t.indices.clone(),
+        normals: t
+            .normals
+            .as_ref()
+            .map(|n| n.iter().map(|&n| Vec3::from(n)).collect()),
+        uvs: t
+            .uvs
+            .as_ref()
+            .map(|u| u.iter().map(|&u| u.into()).collect()),
+    };
+    let m = t.transform.as_ref().map_or(Mat4::IDENTITY, |t| t.matrix());
+    let mut mesh = transformed(mesh, m);
+    if t.flip_normals {
+        flip_normals(&mut mesh);
+    }
+    mesh
+}
+
 /// The mesh moved by `m` (normals by its inverse transpose).
 pub fn transformed(mut mesh: TriangleMesh, m: Mat4) -> TriangleMesh {
     for p in &mut mesh.positions {

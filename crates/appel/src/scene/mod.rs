@@ -128,6 +128,8 @@ pub struct Scene {
 pub struct LoadedDescription {
     pub description: Description,
     pub base_dir: PathBuf,
+    /// What the reader noticed but could render (pbrt's unused parameters).
+    pub warnings: Vec<String>,
 }
 
 /// Reads and validates a scene file (TOML, or JSON by extension, or a Mitsuba 3 `.xml`).
@@ -135,10 +137,13 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
     if is_xml(path) {
         return load_xml_description(path, &crate::io::mitsuba::XmlOptions::default());
     }
+    if crate::io::pbrt::is_pbrt(path) {
+        return load_pbrt_description(path);
+    }
     let syntax = Syntax::from_path(path).ok_or_else(|| {
         Error::input(
             Location::file(path),
-            "unknown scene file extension: expected .toml, .json or .xml",
+            "unknown scene file extension: expected .toml, .json, .xml or .pbrt",
         )
     })?;
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
@@ -158,6 +163,7 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
     Ok(LoadedDescription {
         description,
         base_dir,
+        warnings: Vec::new(),
     })
 }
 
@@ -193,6 +199,33 @@ pub fn load_xml_description(
     Ok(LoadedDescription {
         description,
         base_dir,
+        warnings: Vec::new(),
+    })
+}
+
+/// Reads and validates a pbrt-v4 scene file (see `io::pbrt` and docs/pbrt.md). Its file names
+/// come out absolute; the warnings list the parameters the scene gives and nothing read, as
+/// pbrt reports them.
+pub fn load_pbrt_description(path: &Path) -> Result<LoadedDescription> {
+    let scene = crate::io::pbrt::load_pbrt(path)?;
+    let base_dir = path
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let at_file = |invalid: validate::Invalid| {
+        let message = format!(
+            "in the converted scene, {}: {}",
+            path_string(&invalid.path),
+            invalid.message
+        );
+        Error::input(Location::file(path), message)
+    };
+    validate::validate(&scene.description).map_err(at_file)?;
+    validate::files(&scene.description, &base_dir).map_err(at_file)?;
+    Ok(LoadedDescription {
+        description: scene.description,
+        base_dir,
+        warnings: scene.warnings,
     })
 }
 
@@ -384,6 +417,9 @@ impl Scene {
                         basic_meshes::flip_normals(&mut mesh);
                     }
                     geometry.push_mesh(mesh, material);
+                }
+                ShapeDesc::TriangleMesh(t) => {
+                    geometry.push_mesh(basic_meshes::inline_mesh(t), material);
                 }
                 ShapeDesc::Mesh(m) => {
                     mesh_shape::add_mesh_file(

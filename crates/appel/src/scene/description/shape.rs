@@ -29,6 +29,34 @@ pub enum ShapeDesc {
     /// Mitsuba 3's signed distance grid: a `.vol` grid of distances spanning `[0, 1]^3`, whose zero
     /// set (trilinearly interpolated) is the surface, placed by `transform`.
     SdfGrid(SdfGridDesc),
+    /// A triangle mesh written out in the scene (pbrt's `trianglemesh`).
+    #[serde(rename = "trianglemesh")]
+    TriangleMesh(TriangleMeshDesc),
+}
+
+/// `type = "trianglemesh"`: vertices and triangles given inline. The front of each triangle is
+/// the side of `cross(p1 - p0, p2 - p0)`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TriangleMeshDesc {
+    pub positions: Vec<Vec3f>,
+    /// Three vertex indices per triangle.
+    pub indices: Vec<[u32; 3]>,
+    /// One shading normal per vertex.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normals: Option<Vec<Vec3f>>,
+    /// One texture coordinate per vertex.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uvs: Option<Vec<[f32; 2]>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+    /// Turn the normals around (which side is the front for one-sided materials and emitters).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub flip_normals: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emitter: Option<AreaEmitterDesc>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -238,6 +266,7 @@ impl ShapeDesc {
             ShapeDesc::Implicit(s) => s.material.as_deref(),
             ShapeDesc::Torus(s) => s.material.as_deref(),
             ShapeDesc::Mesh(s) => s.material.as_deref(),
+            ShapeDesc::TriangleMesh(s) => s.material.as_deref(),
             ShapeDesc::Rectangle(s) | ShapeDesc::Cube(s) | ShapeDesc::Disk(s) => {
                 s.material.as_deref()
             }
@@ -252,6 +281,7 @@ impl ShapeDesc {
             ShapeDesc::Sphere(s) => s.emitter.as_ref(),
             ShapeDesc::Triangle(s) => s.emitter.as_ref(),
             ShapeDesc::Mesh(s) => s.emitter.as_ref(),
+            ShapeDesc::TriangleMesh(s) => s.emitter.as_ref(),
             ShapeDesc::Rectangle(s) | ShapeDesc::Cube(s) | ShapeDesc::Disk(s) => s.emitter.as_ref(),
             ShapeDesc::Cylinder(s) => s.emitter.as_ref(),
             ShapeDesc::Plane(_)
@@ -291,6 +321,7 @@ impl ShapeDesc {
                 x.minor_radius *= s;
             }
             ShapeDesc::Mesh(x) => scale_transform(&mut x.transform),
+            ShapeDesc::TriangleMesh(x) => scale_transform(&mut x.transform),
             ShapeDesc::Rectangle(x) | ShapeDesc::Cube(x) | ShapeDesc::Disk(x) => {
                 scale_transform(&mut x.transform)
             }

@@ -228,6 +228,7 @@ impl Converter<'_> {
                         MeshDesc {
                             file,
                             material: Some(material),
+                            triangles: Vec::new(),
                         },
                     );
                     group.meshes.push((name, to_world));
