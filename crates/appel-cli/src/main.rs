@@ -10,6 +10,7 @@ mod render_cmd;
 mod render_frames;
 mod scene_args;
 mod scenes_cmd;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -39,6 +40,8 @@ enum Command {
     Inside(inside_cmd::InsideArgs),
     /// List the built-in scenes, or print one as a scene file to edit.
     Scenes(scenes_cmd::ScenesArgs),
+    /// Serve an interactive viewer of a scene, or the lecture's 2D structures, in the browser.
+    View(Box<view::ViewArgs>),
 }
 
 fn main() -> ExitCode {
@@ -50,6 +53,7 @@ fn main() -> ExitCode {
         Command::Convert(args) => convert_cmd::run(args),
         Command::Inside(args) => inside_cmd::run(args),
         Command::Gen(args) => gen_cmd::run(args),
+        Command::View(args) => view::run(*args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -246,6 +246,9 @@ fn read_scene_or_model(
     } else {
         load_description(path)?
     };
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
     Ok((loaded.description, loaded.base_dir, false))
 }
 

@@ -13,6 +13,7 @@ pub mod error;
 pub mod gen;
 pub mod geometry;
 pub mod io;
+pub mod lecture2d;
 pub mod math;
 pub mod output;
 pub mod query;

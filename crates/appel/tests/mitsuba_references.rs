@@ -197,6 +197,13 @@ fn spot_light() {
     scene_test("spot_light", 1024);
 }
 
+/// Cylinder, disk, rectangle, cubes, the same rectangle from a serialized, an OBJ and a PLY file,
+/// and a torus from an SDF grid, all checkerboard-textured under a constant environment.
+#[test]
+fn various_shapes() {
+    scene_test("various_shapes", 64);
+}
+
 #[test]
 fn projector() {
     scene_test("projector", 64);

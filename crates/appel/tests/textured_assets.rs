@@ -165,6 +165,150 @@ fn damaged_helmet_colours_follow_its_base_colour_texture() {
     }
 }
 
+/// The GLB with its JSON chunk changed by `edit` (the binary chunk kept as it is).
+fn rewrite_glb(bytes: &[u8], edit: impl FnOnce(&mut serde_json::Value)) -> Vec<u8> {
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let mut json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    edit(&mut json);
+    let mut chunk = serde_json::to_vec(&json).unwrap();
+    while !chunk.len().is_multiple_of(4) {
+        chunk.push(b' ');
+    }
+    let rest = &bytes[20 + json_len..];
+    let mut out = b"glTF".to_vec();
+    out.extend(2u32.to_le_bytes());
+    out.extend(((20 + chunk.len() + rest.len()) as u32).to_le_bytes());
+    out.extend((chunk.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(chunk);
+    out.extend(rest);
+    out
+}
+
+/// [`render_model`] with a directional light beside the framing's sky: under a uniform sky alone,
+/// diffuse shading hardly depends on the normal (a cosine-sampled bounce carries the albedo
+/// whichever way the normal points), so a normal map would show only in the speculars.
+fn render_model_lit(path: &Path, w: u32, h: u32, spp: u32) -> Film {
+    let file = path.file_name().unwrap().to_str().unwrap();
+    let mut base = model_description(file);
+    (base.camera.width, base.camera.height) = (w, h);
+    let mut scene = Scene::new(&base, path.parent().unwrap()).unwrap_or_else(|e| panic!("{e}"));
+    let mut view = view_model(&scene, &base, None).unwrap();
+    view.lights
+        .push(appel::scene::description::LightDesc::Directional {
+            direction: [0.4, -0.6, -0.7],
+            color: [1.0; 3],
+            intensity: 3.0,
+        });
+    scene.set_view(&view).unwrap();
+    scene.settings.integrator = view.render.integrator;
+    scene.settings.max_depth = view.render.max_depth;
+    scene.settings.spp = spp;
+    render(&scene, &RenderOptions::default()).unwrap().0
+}
+
+/// DamagedHelmet's normal map reaches the image: lit from one side and rendered without its
+/// `normalTexture`, the helmet looks clearly different; with a flat normal map (0.5, 0.5, 1 everywhere, stored as
+/// floats so that it is exactly the unperturbed normal) instead, it looks the same as without
+/// one, to float noise.
+#[test]
+fn damaged_helmet_normal_map_tilts_and_a_flat_one_does_not() {
+    let Some(path) = shared("gltf-models/DamagedHelmet/glTF-Binary/DamagedHelmet.glb") else {
+        return;
+    };
+    let bytes = std::fs::read(&path).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    exr::prelude::write_rgb_file(dir.path().join("flat.exr"), 4, 4, |_, _| {
+        (0.5f32, 0.5f32, 1.0f32)
+    })
+    .unwrap();
+    // Every normal tilted by 53 degrees toward the tangent.
+    exr::prelude::write_rgb_file(dir.path().join("tilted.exr"), 4, 4, |_, _| {
+        (0.9f32, 0.5f32, 0.8f32)
+    })
+    .unwrap();
+    let write = |name: &str, edit: &dyn Fn(&mut serde_json::Value)| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, rewrite_glb(&bytes, edit)).unwrap();
+        p
+    };
+    let none = write("none.glb", &|j| {
+        for m in j["materials"].as_array_mut().unwrap() {
+            m.as_object_mut().unwrap().remove("normalTexture");
+        }
+    });
+    let with_map = |name: &str, image: &str| {
+        let image = image.to_string();
+        write(name, &move |j: &mut serde_json::Value| {
+            let images = j["images"].as_array_mut().unwrap();
+            images.push(serde_json::json!({ "uri": image }));
+            let image = images.len() - 1;
+            let textures = j["textures"].as_array_mut().unwrap();
+            textures.push(serde_json::json!({ "source": image }));
+            let texture = textures.len() - 1;
+            for m in j["materials"].as_array_mut().unwrap() {
+                m["normalTexture"] = serde_json::json!({ "index": texture });
+            }
+        })
+    };
+    let flat = with_map("flat.glb", "flat.exr");
+    let tilted_glb = with_map("tilted.glb", "tilted.exr");
+    let (w, h, spp) = (96, 72, 16);
+    let mapped = render_model_lit(&path, w, h, spp);
+    let without = render_model_lit(&none, w, h, spp);
+    let flat = render_model_lit(&flat, w, h, spp);
+    let tilted_film = render_model_lit(&tilted_glb, w, h, spp);
+    let mean = |f: &Film| f.rgb.iter().map(|c| c.x + c.y + c.z).sum::<f32>() / f.rgb.len() as f32;
+    // As displayed: clamped to [0, 1], so that a few fireflies do not decide.
+    let mean_abs_diff = |a: &Film, b: &Film| {
+        a.rgb
+            .iter()
+            .zip(&b.rgb)
+            .map(|(x, y)| (x.min(Vec3::ONE) - y.min(Vec3::ONE)).abs().element_sum())
+            .sum::<f32>()
+            / a.rgb.len() as f32
+    };
+    if let Ok(dir) = std::env::var("APPEL_REFERENCE_PNG") {
+        for (name, f) in [("mapped", &mapped), ("without", &without)] {
+            let img = image::RgbImage::from_fn(w, h, |x, y| {
+                let c = f.rgb[(y * w + x) as usize];
+                image::Rgb(
+                    c.to_array()
+                        .map(|v| (v.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) as u8),
+                )
+            });
+            img.save(Path::new(&dir).join(format!("helmet_{name}.png")))
+                .unwrap();
+        }
+    }
+    let scale = mean(&without);
+    // The sampler draws the same numbers for each render, so a small tilt moves a pixel's
+    // paths, and its value, only a little: the helmet's map, mostly flat but for its panel
+    // lines, rivets and scratches, shows as many pixels changed by a few percent.
+    let changed = |a: &Film, b: &Film| {
+        a.rgb
+            .iter()
+            .zip(&b.rgb)
+            .filter(|(x, y)| {
+                let (x, y) = (x.min(Vec3::ONE), y.min(Vec3::ONE));
+                (x - y).abs().max_element() > 0.02 * x.max(y).max_element().max(0.05)
+            })
+            .count() as f32
+            / a.rgb.len() as f32
+    };
+    let mapped_diff = mean_abs_diff(&mapped, &without) / scale;
+    let mapped_changed = changed(&mapped, &without);
+    let tilted_diff = mean_abs_diff(&tilted_film, &without) / scale;
+    let flat_diff = mean_abs_diff(&flat, &without) / scale;
+    let identical = flat.rgb == without.rgb;
+    eprintln!(
+        "relative mean |difference| from no normal map: helmet's map {mapped_diff} ({mapped_changed} of the pixels changed by over 2%), tilted {tilted_diff}, flat {flat_diff} (identical: {identical})"
+    );
+    assert!(tilted_diff > 0.02, "{tilted_diff}");
+    assert!(mapped_changed > 0.01, "{mapped_changed}");
+    assert!(flat_diff < 1e-4, "{flat_diff}");
+}
+
 /// FlightHelmet's textures are not in the shared data: the model renders with its factors and a
 /// warning names a missing texture.
 #[test]

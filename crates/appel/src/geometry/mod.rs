@@ -3,6 +3,7 @@
 //! Every intersector returns the smallest `t` in `(0, t_max)` (a cheap [`PrimHit`]); the full
 //! [`SurfaceInteraction`] is computed once, for the final hit only.
 
+mod cylinder;
 pub mod implicit;
 mod instance_transform;
 mod mesh;
@@ -10,16 +11,19 @@ mod overlap;
 mod plane;
 pub mod poly;
 pub mod procedural;
+mod sdf_grid;
 mod sphere;
 mod torus;
 mod transform;
 pub mod triangle;
 
+pub use cylinder::Cylinder;
 pub use implicit::Implicit;
 pub use instance_transform::InstanceTransform;
 pub use mesh::TriangleMesh;
 pub use overlap::triangle_box_overlap;
 pub use plane::Plane;
+pub use sdf_grid::{SdfGrid, SdfNormals};
 pub use sphere::{Sphere, SphereBlock};
 pub use torus::Torus;
 pub use transform::ObjectTransform;

@@ -1,5 +1,5 @@
 //! Triangle meshes from files: the common result type and the entry point that picks a reader by the
-//! file's extension (`.ply`, `.obj`, `.gltf`, `.glb`, and `.ply.gz` / `.obj.gz`).
+//! file's extension (`.ply`, `.obj`, `.gltf`, `.glb`, `.serialized`, and `.ply.gz` / `.obj.gz`).
 
 use super::assets::{archive_path, open_archive, Assets};
 use crate::error::{Error, Location, Result};
@@ -366,6 +366,8 @@ pub enum MeshFormat {
     Ply,
     Obj,
     Gltf,
+    /// Mitsuba's zlib-compressed `.serialized` meshes.
+    Serialized,
 }
 
 impl MeshFormat {
@@ -381,6 +383,7 @@ impl MeshFormat {
             "ply" => MeshFormat::Ply,
             "obj" => MeshFormat::Obj,
             "gltf" | "glb" if !gz => MeshFormat::Gltf,
+            "serialized" if !gz => MeshFormat::Serialized,
             _ => return None,
         };
         Some((format, gz))
@@ -403,7 +406,7 @@ pub fn load_mesh(path: &Path) -> Result<LoadedMesh> {
         let (format, gz) = MeshFormat::from_path(Path::new(&inner)).ok_or_else(|| {
             Error::input(
                 Location::file(&name),
-                "not a mesh file Appel reads: expected .ply, .obj, .gltf, .glb, .ply.gz or .obj.gz",
+                "not a mesh file Appel reads: expected .ply, .obj, .gltf, .glb, .serialized, .ply.gz or .obj.gz",
             )
         })?;
         let bytes = if gz { gunzip(&bytes, &name)? } else { bytes };
@@ -413,7 +416,7 @@ pub fn load_mesh(path: &Path) -> Result<LoadedMesh> {
     let (format, gz) = MeshFormat::from_path(path).ok_or_else(|| {
         Error::input(
             Location::file(path),
-            "unknown mesh file extension: expected .ply, .obj, .gltf, .glb, .ply.gz or .obj.gz (or a .zip holding one)",
+            "unknown mesh file extension: expected .ply, .obj, .gltf, .glb, .serialized, .ply.gz or .obj.gz (or a .zip holding one)",
         )
     })?;
     let assets = Assets::beside(path);
@@ -459,6 +462,7 @@ fn parse_mesh_bytes(
         MeshFormat::Ply => super::ply::parse_ply(bytes, name),
         MeshFormat::Obj => super::obj::parse_obj(bytes, name, assets),
         MeshFormat::Gltf => super::gltf::parse_gltf_from(bytes, name, assets),
+        MeshFormat::Serialized => super::serialized::parse_serialized(bytes, name),
     }
 }
 

@@ -1,15 +1,18 @@
-//! Input readers: triangle meshes (PLY, OBJ, glTF), placement and point lists. Writers are in
+//! Input readers: triangle meshes (PLY, OBJ, glTF, Mitsuba's serialized), placement and point lists. Writers are in
 //! `output`.
 
 pub mod assets;
 pub mod bitmap_read;
 pub mod gltf;
+pub mod grid_volume;
 pub mod mesh_file;
 pub mod mitsuba;
 pub mod obj;
+pub mod pbrt;
 pub mod placements;
 pub mod ply;
 pub mod points;
+pub mod serialized;
 
 pub use mesh_file::{
     is_mesh_file, load_mesh, mesh_source_exists, AlphaMode, FileCamera, FileImage, FileMaterial,

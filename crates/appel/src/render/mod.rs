@@ -133,13 +133,6 @@ fn with_sampler<I: Integrator>(
     let passes = render_loop::Passes {
         filter: filter::Filter::new(&s.filter),
         spp: s.spp,
-        // With a time limit, passes of 1/16 of the samples (at least one) let the render stop
-        // near the limit; without one, a single pass.
-        pass_spp: if options.time_limit.is_some() {
-            (s.spp / 16).max(1)
-        } else {
-            s.spp
-        },
     };
     use render_loop::render_loop as run;
     match s.sampler {

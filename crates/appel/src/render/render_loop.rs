@@ -19,15 +19,30 @@ use crate::error::{Error, Result};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// What the loop needs beyond the scene and the integrator.
 pub struct Passes {
     pub filter: Filter,
     /// Samples per pixel to reach.
     pub spp: u32,
-    /// Samples per pixel in one pass: the granularity at which a time limit is checked.
-    pub pass_spp: u32,
+}
+
+/// Samples per pixel of the next pass. Without a time limit, all that remain in one pass. With
+/// one, a first pass of one sample measures the cost of a sample, and each later pass takes what
+/// the remaining time allows at that cost, at most twice the samples done so far, so the render
+/// stops near the limit whatever a sample costs.
+fn next_pass(spp: u32, done: u32, elapsed: Duration, limit: Option<Duration>) -> u32 {
+    let remaining = spp - done;
+    let Some(limit) = limit else {
+        return remaining;
+    };
+    if done == 0 {
+        return 1;
+    }
+    let per_sample = elapsed.as_secs_f64() / done as f64;
+    let affordable = (limit.saturating_sub(elapsed).as_secs_f64() / per_sample.max(1e-9)) as u64;
+    (affordable.clamp(1, 2 * done as u64) as u32).min(remaining)
 }
 
 /// Pixels `x0..x1` by `y0..y1` of one tile, clipped to what is sampled.
@@ -97,12 +112,11 @@ pub fn render_loop<I: Integrator, S: Sampler>(
     let mut stats = RenderStats::default();
     let samples_done = AtomicU64::new(0);
     let spp = p.spp.max(1);
-    let pass_spp = p.pass_spp.clamp(1, spp);
     let sampled_pixels = tiles.iter().map(|t| t.pixels() as u64).sum::<u64>();
     let window_pixels = ww as u64 * wh as u64;
     let mut first = 0;
     while first < spp {
-        let count = pass_spp.min(spp - first);
+        let count = next_pass(spp, first, start.elapsed(), options.time_limit);
         let results: Vec<Option<TileResult>> = tiles
             .par_iter()
             .map(|t| {
@@ -207,5 +221,32 @@ fn copy_aovs(out: &mut [PixelAov], window: Window, t: &Tile, tile_aovs: &[PixelA
         let dst = (y - window.y0) as usize * ww + (x0 - window.x0) as usize;
         let n = (x1 - x0) as usize;
         out[dst..dst + n].copy_from_slice(&tile_aovs[src..src + n]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::next_pass;
+    use std::time::Duration;
+
+    const MS: Duration = Duration::from_millis(1);
+
+    #[test]
+    fn passes_fit_the_time_limit() {
+        // No limit: everything at once.
+        assert_eq!(next_pass(1000, 0, MS, None), 1000);
+        assert_eq!(next_pass(1000, 10, MS, None), 990);
+        let limit = Some(1000 * MS);
+        // One sample first, to measure.
+        assert_eq!(next_pass(1000, 0, Duration::ZERO, limit), 1);
+        // 100 ms a sample with 900 ms left: doubling allows 2.
+        assert_eq!(next_pass(1000, 1, 100 * MS, limit), 2);
+        // 100 ms a sample with 200 ms left: 2, though doubling would allow 16.
+        assert_eq!(next_pass(1000, 8, 800 * MS, limit), 2);
+        // Cheap samples: doubling bounds the pass, and it never passes the count asked for.
+        assert_eq!(next_pass(1000, 64, 64 * MS, limit), 128);
+        assert_eq!(next_pass(100, 64, 64 * MS, limit), 36);
+        // Little time left: still one sample, the loop stops after it.
+        assert_eq!(next_pass(1000, 10, 999 * MS, limit), 1);
     }
 }

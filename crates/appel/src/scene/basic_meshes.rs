@@ -29,31 +29,46 @@ pub fn rectangle() -> TriangleMesh {
     }
 }
 
-/// Six faces of four vertices each (so that each face has its own uv square), wound outward.
+/// Six faces of four vertices each (so that each face has its own uv square), wound outward,
+/// with Mitsuba's corners and uvs: each face's corners in the order Mitsuba's `cube` lists them,
+/// taking uv (0, 1), (1, 1), (1, 0), (0, 0), and its two triangles (0, 1, 2) and (3, 0, 2). The
+/// orientation of each face's uv square matters to any texture that is not symmetric.
 pub fn cube() -> TriangleMesh {
+    const FACES: [[[f32; 3]; 4]; 6] = [
+        [
+            [1., -1., -1.],
+            [1., -1., 1.],
+            [-1., -1., 1.],
+            [-1., -1., -1.],
+        ],
+        [[1., 1., -1.], [-1., 1., -1.], [-1., 1., 1.], [1., 1., 1.]],
+        [[1., -1., -1.], [1., 1., -1.], [1., 1., 1.], [1., -1., 1.]],
+        [[1., -1., 1.], [1., 1., 1.], [-1., 1., 1.], [-1., -1., 1.]],
+        [
+            [-1., -1., 1.],
+            [-1., 1., 1.],
+            [-1., 1., -1.],
+            [-1., -1., -1.],
+        ],
+        [
+            [1., 1., -1.],
+            [1., -1., -1.],
+            [-1., -1., -1.],
+            [-1., 1., -1.],
+        ],
+    ];
+    const UVS: [[f32; 2]; 4] = [[0., 1.], [1., 1.], [1., 0.], [0., 0.]];
     let mut positions = Vec::with_capacity(24);
     let mut uvs = Vec::with_capacity(24);
     let mut indices = Vec::with_capacity(12);
-    for axis in 0..3 {
-        for sign in [-1.0f32, 1.0] {
-            let n = Vec3::from_array(std::array::from_fn(|i| if i == axis { sign } else { 0.0 }));
-            // Two tangents with t0 x t1 = n, so that counter-clockwise corners face outward.
-            let t0 = Vec3::from_array(std::array::from_fn(|i| {
-                if i == (axis + 1) % 3 {
-                    1.0
-                } else {
-                    0.0
-                }
-            }));
-            let t1 = n.cross(t0);
-            let base = positions.len() as u32;
-            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                positions.push(n + a * t0 + b * t1);
-                uvs.push(Vec2::new(a * 0.5 + 0.5, b * 0.5 + 0.5));
-            }
-            indices.push([base, base + 1, base + 2]);
-            indices.push([base, base + 2, base + 3]);
+    for face in FACES {
+        let base = positions.len() as u32;
+        for (corner, uv) in face.iter().zip(UVS) {
+            positions.push(Vec3::from(*corner));
+            uvs.push(Vec2::from(uv));
         }
+        indices.push([base, base + 1, base + 2]);
+        indices.push([base + 3, base, base + 2]);
     }
     TriangleMesh {
         positions,
@@ -63,27 +78,58 @@ pub fn cube() -> TriangleMesh {
     }
 }
 
-/// A fan around the centre; uv as Mitsuba's disk: (radius, angle / 2 pi).
+/// A fan around the centre; uv as Mitsuba's disk: (radius, angle / 2 pi). Each triangle has its
+/// own centre vertex, at the angle of its middle, and the rim closes on a vertex at angle 1 (not
+/// 0): interpolated across a triangle, v then stays within 1 / (2 `DISK_SEGMENTS`) of the angle
+/// instead of winding into a spiral.
 pub fn disk() -> TriangleMesh {
     let n = DISK_SEGMENTS;
     // The fan's vertices lie at a radius that gives the polygon the circle's area:
     // n/2 r^2 sin(2 pi / n) = pi.
     let step = std::f32::consts::TAU / n as f32;
     let r = (std::f32::consts::PI / (0.5 * n as f32 * step.sin())).sqrt();
-    let mut positions = vec![Vec3::ZERO];
-    let mut uvs = vec![Vec2::ZERO];
-    for i in 0..n {
+    let mut positions = Vec::with_capacity(2 * n as usize + 1);
+    let mut uvs = Vec::with_capacity(2 * n as usize + 1);
+    for i in 0..=n {
         let phi = i as f32 * step;
         positions.push(Vec3::new(r * phi.cos(), r * phi.sin(), 0.0));
         uvs.push(Vec2::new(1.0, i as f32 / n as f32));
     }
-    let indices = (0..n).map(|i| [0, 1 + i, 1 + (i + 1) % n]).collect();
+    let mut indices = Vec::with_capacity(n as usize);
+    for i in 0..n {
+        let centre = positions.len() as u32;
+        positions.push(Vec3::ZERO);
+        uvs.push(Vec2::new(0.0, (i as f32 + 0.5) / n as f32));
+        indices.push([centre, i, i + 1]);
+    }
     TriangleMesh {
         positions,
         indices,
         normals: None,
         uvs: Some(uvs),
     }
+}
+
+/// A `trianglemesh` shape's mesh, placed by its transform.
+pub fn inline_mesh(t: &crate::scene::description::TriangleMeshDesc) -> TriangleMesh {
+    let mesh = TriangleMesh {
+        positions: t.positions.iter().map(|&p| p.into()).collect(),
+        indices: t.indices.clone(),
+        normals: t
+            .normals
+            .as_ref()
+            .map(|n| n.iter().map(|&n| Vec3::from(n)).collect()),
+        uvs: t
+            .uvs
+            .as_ref()
+            .map(|u| u.iter().map(|&u| u.into()).collect()),
+    };
+    let m = t.transform.as_ref().map_or(Mat4::IDENTITY, |t| t.matrix());
+    let mut mesh = transformed(mesh, m);
+    if t.flip_normals {
+        flip_normals(&mut mesh);
+    }
+    mesh
 }
 
 /// The mesh moved by `m` (normals by its inverse transpose).
@@ -152,6 +198,34 @@ mod tests {
             let [p0, p1, p2] = c.vertices(t);
             assert!((p1 - p0).cross(p2 - p0).dot(p0 + p1 + p2) > 0.0);
         }
+    }
+
+    /// Texture coordinates follow Mitsuba's: the disk's (radius, angle / 2 pi) at the middle of
+    /// each triangle, and the cube's +z face maps (1, -1) to uv (0, 1) and (-1, 1) to (1, 0).
+    #[test]
+    fn uvs_follow_mitsubas_parameterisations() {
+        let d = disk();
+        let uvs = d.uvs.as_ref().unwrap();
+        for t in [0, 7, DISK_SEGMENTS as usize - 1] {
+            let [a, b, c] = d.indices[t];
+            let (b0, b1, b2) = (0.4, 0.35, 0.25);
+            let p = b0 * d.positions[a as usize]
+                + b1 * d.positions[b as usize]
+                + b2 * d.positions[c as usize];
+            let uv = b0 * uvs[a as usize] + b1 * uvs[b as usize] + b2 * uvs[c as usize];
+            let mut phi = p.y.atan2(p.x);
+            if phi < 0.0 {
+                phi += std::f32::consts::TAU;
+            }
+            assert!((uv.y - phi / std::f32::consts::TAU).abs() < 1.0 / DISK_SEGMENTS as f32);
+            assert!((uv.x - p.length()).abs() < 1e-3, "{uv} {p}");
+        }
+        let c = cube();
+        // The +z face is the fourth: corners (1, -1, 1), (1, 1, 1), (-1, 1, 1), (-1, -1, 1).
+        assert_eq!(c.positions[12], Vec3::new(1.0, -1.0, 1.0));
+        assert_eq!(c.uvs.as_ref().unwrap()[12], Vec2::new(0.0, 1.0));
+        assert_eq!(c.positions[14], Vec3::new(-1.0, 1.0, 1.0));
+        assert_eq!(c.uvs.as_ref().unwrap()[14], Vec2::new(1.0, 0.0));
     }
 
     #[test]

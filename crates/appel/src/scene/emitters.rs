@@ -60,6 +60,17 @@ impl SceneEmitters {
                         center: sphere.center,
                         radius: sphere.radius,
                     }),
+                    ShapeKind::Cylinder(c) => Some(
+                        ShapeSampler::cylinder(c.to_world(), c.flip_normals()).ok_or_else(
+                            || {
+                                Error::Invalid(format!(
+                                    "shape[{index}]: an emitting cylinder must stay circular \
+                                     (its transform may rotate, translate and scale, with equal \
+                                     scales across the axis)"
+                                ))
+                            },
+                        )?,
+                    ),
                     _ => None,
                 },
                 _ => None,

@@ -39,6 +39,8 @@ pub fn is_physically_based(m: &FileMaterial) -> bool {
         || m.specular_map.is_some()
         || m.shininess_map.is_some()
         || m.opacity_map.is_some()
+        || m.normal_map.is_some()
+        || m.bump_map.is_some()
 }
 
 /// The decoded images of one file, by (image, raw).
@@ -47,8 +49,8 @@ pub struct Images {
 }
 
 impl Images {
-    /// Decodes every image the physically based materials of `loaded` read (normal, bump and
-    /// occlusion maps are not used, so not decoded). An image that could not be read was reported
+    /// Decodes every image the physically based materials of `loaded` read (occlusion maps are
+    /// not used, so not decoded). An image that could not be read was reported
     /// as a warning by the reader and is skipped; one that cannot be decoded is an error.
     pub fn decode(loaded: &LoadedMesh) -> Result<Self> {
         let mut wanted: Vec<(u32, bool)> = vec![];
@@ -64,6 +66,8 @@ impl Images {
             want(&m.specular_map, false);
             want(&m.shininess_map, true);
             want(&m.opacity_map, true);
+            want(&m.normal_map.as_ref().map(|n| n.0.clone()), true);
+            want(&m.bump_map.as_ref().map(|b| b.0.clone()), true);
             if let Some(p) = &m.pbr {
                 want(&p.metallic_roughness_map, true);
                 want(&p.emissive_map, false);
@@ -328,12 +332,59 @@ pub fn build(m: &FileMaterial, images: &Images, first: u32) -> BuiltMaterial {
             },
         ));
     }
+    // The perturbed normal wraps the two-sided material, as the shading code expects: the map's
+    // normal is read in the unmirrored frame, and the back side is mirrored inside it.
+    if let Some(perturb) = perturbation(m, images, first + entries.len() as u32 - 1) {
+        entries.push((whitted, perturb));
+    }
     let opacity = coverage(m, images);
     if let Some(opacity) = opacity {
         let inner = first + entries.len() as u32 - 1;
         entries.push((whitted, Material::Mask { opacity, inner }));
     }
     BuiltMaterial { entries, emission }
+}
+
+/// `inner` shaded with `m`'s normal map (glTF `normalTexture`, MTL `norm`) or, without one, its
+/// bump map (MTL `bump`/`map_bump`), through Mitsuba's `normalmap` and `bumpmap` adapters with
+/// their defaults. The normal map's tangent frame is the shading frame, whose tangent follows
+/// dp/du and whose bitangent is n x dp/du: glTF's frame for tangents computed from the uvs
+/// (MikkTSpace with a positive handedness; a `TANGENT` attribute is not read). glTF's `scale`
+/// multiplies the map's x and y (`normalize((2 rgb - 1) * (scale, scale, 1))`), baked into the
+/// image; MTL's `-bm` is the bump map's height scale.
+fn perturbation(m: &FileMaterial, images: &Images, inner: u32) -> Option<Material> {
+    if let Some((t, scale)) = &m.normal_map {
+        if let Some(b) = images.get(t, true) {
+            let normals = if *scale == 1.0 || !scale.is_finite() {
+                images.texture(t, b.clone())
+            } else {
+                let scale = *scale;
+                let derived = derive(b, 3, |px, out| {
+                    let c = |k: usize| px.get(k).copied().unwrap_or(px[0]);
+                    out[0] = 0.5 + (c(0) - 0.5) * scale;
+                    out[1] = 0.5 + (c(1) - 0.5) * scale;
+                    out[2] = c(2);
+                });
+                images.texture(t, Arc::new(derived))
+            };
+            return Some(Material::NormalMap {
+                normals,
+                inner,
+                flip_invalid: true,
+                shadowing: true,
+            });
+        }
+    }
+    let (t, scale) = m.bump_map.as_ref()?;
+    let b = images.get(t, true)?;
+    Some(Material::BumpMap {
+        // Grey value, or luminance of a colour image, as the bump adapter reads a texture.
+        height: images.texture(t, b.clone()),
+        scale: if scale.is_finite() { *scale } else { 1.0 },
+        inner,
+        flip_invalid: true,
+        shadowing: true,
+    })
 }
 
 /// The coverage of `m`, or `None` if it is opaque everywhere.

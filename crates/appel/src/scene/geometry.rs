@@ -3,8 +3,8 @@
 use super::instance::{Instance, Prototype};
 use crate::accel::{closest_of, test_primitive, Hit, Primitives, TraversalStats};
 use crate::geometry::{
-    triangle_box_overlap, Implicit, ObjectTransform, Plane, PrimHit, Sphere, SphereBlock,
-    SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
+    triangle_box_overlap, Cylinder, Implicit, ObjectTransform, Plane, PrimHit, SdfGrid, Sphere,
+    SphereBlock, SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
 };
 use crate::io::mesh_file::MeshAttribute;
 use crate::math::{Aabb, Ray, RayF64, Vec3};
@@ -41,6 +41,9 @@ pub enum ShapeKind {
     /// Index into [`Geometry::implicits`] (the compiled formula lives there, not in the enum).
     Implicit(u32),
     Torus(Torus),
+    /// Boxed: its two transforms would make every shape's entry several times larger.
+    Cylinder(Box<Cylinder>),
+    SdfGrid(std::sync::Arc<SdfGrid>),
     /// One `[[instance]]` entry: its primitives are instances, named by their index into
     /// [`Geometry::instances`].
     Instances,
@@ -186,6 +189,8 @@ pub struct Geometry {
     rectangles: Vec<(Plane, u32)>,
     /// ...and the ids of the others.
     others: Vec<u32>,
+    /// Spheres textured as Mitsuba's: the rows of their frame, by shape id (empty when none is).
+    sphere_uv_frames: Vec<Option<glam::Mat3>>,
 }
 
 /// A closest hit in the scene.
@@ -219,7 +224,10 @@ impl Geometry {
         let id = self.shapes.len() as u32;
         match &kind {
             ShapeKind::Sphere(s) => self.push_single(id, Analytic::Sphere(*s)),
-            ShapeKind::Implicit(_) | ShapeKind::Torus(_) => self.push_single(id, Analytic::Other),
+            ShapeKind::Implicit(_)
+            | ShapeKind::Torus(_)
+            | ShapeKind::Cylinder(_)
+            | ShapeKind::SdfGrid(_) => self.push_single(id, Analytic::Other),
             ShapeKind::Plane(p) if p.half_size.is_none() => self.unbounded.push(id),
             ShapeKind::Plane(p) => self.push_single(id, Analytic::Rectangle(*p)),
             ShapeKind::Mesh(m) => {
@@ -237,6 +245,15 @@ impl Geometry {
             },
         });
         id
+    }
+
+    /// Gives sphere `shape` Mitsuba's texture coordinates about the frame whose rows are `rows`.
+    pub fn set_sphere_uv_frame(&mut self, shape: u32, rows: glam::Mat3) {
+        let i = shape as usize;
+        if self.sphere_uv_frames.len() <= i {
+            self.sphere_uv_frames.resize(i + 1, None);
+        }
+        self.sphere_uv_frames[i] = Some(rows);
     }
 
     fn push_single(&mut self, shape: u32, analytic: Analytic) {
@@ -440,6 +457,8 @@ impl Geometry {
                 }
             }
             ShapeKind::Torus(t) => t.intersect(ray, t_max),
+            ShapeKind::Cylinder(c) => c.intersect(ray, t_max),
+            ShapeKind::SdfGrid(g) => g.intersect(ray, t_max),
             ShapeKind::Instances => {
                 let instance = &self.instances[index as usize];
                 self.prototypes[instance.prototype as usize].intersect(instance, ray, t_max, stats)
@@ -561,7 +580,15 @@ impl Geometry {
             sub: 0,
         };
         match &self.shapes[hit.shape as usize].kind {
-            ShapeKind::Sphere(s) => s.interaction_with(ray, &ph, with_uv),
+            ShapeKind::Sphere(s) => {
+                let mut si = s.interaction_with(ray, &ph, with_uv);
+                if let Some(Some(rows)) = self.sphere_uv_frames.get(hit.shape as usize) {
+                    if with_uv {
+                        mitsuba_sphere_uv(&mut si, s, rows);
+                    }
+                }
+                si
+            }
             ShapeKind::Plane(p) => p.interaction(ray, &ph),
             ShapeKind::Mesh(m) => self.meshes[*m as usize].interaction(hit.prim as usize, &ph),
             ShapeKind::Implicit(i) => {
@@ -572,9 +599,36 @@ impl Geometry {
                 }
             }
             ShapeKind::Torus(t) => t.interaction(ray, &ph),
+            ShapeKind::Cylinder(c) => c.interaction(ray, &ph),
+            ShapeKind::SdfGrid(g) => g.interaction(ray, &ph),
             ShapeKind::Instances => unreachable!("instance hits are handled above"),
         }
     }
+}
+
+/// Mitsuba 3's sphere parameterisation at `si`: with `l` the unit normal in the sphere's frame
+/// (`rows` holds its axes), u = phi / 2 pi (phi = atan2(l.y, l.x) in [0, 2 pi)), v = theta / pi
+/// (theta = acos(l.z)); dp/du = 2 pi r (-l.y, l.x, 0) and dp/dv = pi r (l.z cos phi, l.z sin phi,
+/// -sin theta), carried back to the world.
+fn mitsuba_sphere_uv(si: &mut SurfaceInteraction, s: &Sphere, rows: &glam::Mat3) {
+    use std::f32::consts::PI;
+    let to_world = rows.transpose();
+    let l = (*rows * si.n).normalize();
+    let mut phi = l.y.atan2(l.x);
+    if phi < 0.0 {
+        phi += 2.0 * PI;
+    }
+    let theta = l.z.clamp(-1.0, 1.0).acos();
+    si.uv = crate::math::Vec2::new(phi / (2.0 * PI), theta / PI);
+    let r = s.radius;
+    si.dpdu = to_world * (2.0 * PI * r * Vec3::new(-l.y, l.x, 0.0));
+    let sin_theta = l.x.hypot(l.y);
+    let (cos_phi, sin_phi) = if sin_theta > 0.0 {
+        (l.x / sin_theta, l.y / sin_theta)
+    } else {
+        (1.0, 0.0)
+    };
+    si.dpdv = to_world * (PI * r * Vec3::new(l.z * cos_phi, l.z * sin_phi, -sin_theta));
 }
 
 /// Makes hit `h` of primitive `id` the nearest so far (for an any-hit query, the stand-in that
@@ -634,6 +688,8 @@ impl Primitives for Geometry {
                 }
             }
             ShapeKind::Torus(t) => t.bounds(),
+            ShapeKind::Cylinder(c) => c.bounds(),
+            ShapeKind::SdfGrid(g) => g.bounds(),
             ShapeKind::Instances => {
                 let instance = &self.instances[r.index as usize];
                 let prototype = &self.prototypes[instance.prototype as usize];

@@ -50,16 +50,30 @@ pub(super) fn add_instances(
         let mut mesh_geometry = Geometry::new(geometry.triangle_test);
         let material = m.material.as_deref().map(&material_index);
         let emitting = extras.emission.len();
-        add_mesh_file(
-            &mut mesh_geometry,
-            materials,
-            extras,
-            &base_dir.join(&m.file),
-            None,
-            material,
-            settings.accel,
-            &settings.accel_options,
-        )?;
+        if m.file.is_empty() {
+            // Written out in the scene; validation saw that each has a material.
+            for t in &m.triangles {
+                let own = t.material.as_deref().map(&material_index);
+                let Some(mat) = own.or(material) else {
+                    return Err(Error::Invalid(format!(
+                        "mesh `{}`: a triangle mesh without a material",
+                        entry.mesh
+                    )));
+                };
+                mesh_geometry.push_mesh(super::basic_meshes::inline_mesh(t), mat);
+            }
+        } else {
+            add_mesh_file(
+                &mut mesh_geometry,
+                materials,
+                extras,
+                &base_dir.join(&m.file),
+                None,
+                material,
+                settings.accel,
+                &settings.accel_options,
+            )?;
+        }
         if !mesh_geometry.instances.is_empty() {
             return Err(Error::input(
                 Location::file(base_dir.join(&m.file)),
@@ -75,8 +89,13 @@ pub(super) fn add_instances(
                 m.file
             ));
         }
-        steps.step(&format!("read {}", m.file))?;
-        loaded.push((&m.file, mesh_geometry));
+        let label = if m.file.is_empty() {
+            &entry.mesh
+        } else {
+            &m.file
+        };
+        steps.step(&format!("read {label}"))?;
+        loaded.push((label, mesh_geometry));
         prototype_of.insert(&entry.mesh, base + loaded.len() as u32 - 1);
     }
     // The prototypes' structures are independent: build them side by side (each also splits its

@@ -104,6 +104,7 @@ pub fn estimate_memory(d: &Description, base_dir: &Path) -> Result<MemoryEstimat
     for s in &d.shapes {
         let (t, v) = match s {
             ShapeDesc::Mesh(m) => mesh_counts(&base_dir.join(&m.file))?,
+            ShapeDesc::TriangleMesh(m) => (m.indices.len() as u64, m.positions.len() as u64),
             _ => (1, 3),
         };
         e.triangles += t;
@@ -112,7 +113,13 @@ pub fn estimate_memory(d: &Description, base_dir: &Path) -> Result<MemoryEstimat
     }
     for (name, m) in &d.meshes {
         if d.instances.iter().any(|i| &i.mesh == name) {
-            let (t, v) = mesh_counts(&base_dir.join(&m.file))?;
+            let (t, v) = if m.file.is_empty() {
+                m.triangles.iter().fold((0, 0), |(t, v), x| {
+                    (t + x.indices.len() as u64, v + x.positions.len() as u64)
+                })
+            } else {
+                mesh_counts(&base_dir.join(&m.file))?
+            };
             e.triangles += t;
             largest_structure = largest_structure.max(t);
             bytes += t * PER_TRIANGLE + v * PER_VERTEX;

@@ -42,7 +42,8 @@ pub use sequence::{FrameUpdate, Sequence, REBUILD_FACTOR};
 use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
 use crate::error::{Error, Location, Result};
 use crate::geometry::{
-    Implicit, ObjectTransform, Plane, Sphere, Torus, TriangleMesh, TriangleTest,
+    Cylinder, Implicit, ObjectTransform, Plane, SdfGrid, SdfNormals, Sphere, Torus, TriangleMesh,
+    TriangleTest,
 };
 use crate::math::{Ray, Vec2, Vec3};
 use parse::{parse_description, toml_span, PathSeg, Syntax};
@@ -130,6 +131,8 @@ pub struct Scene {
 pub struct LoadedDescription {
     pub description: Description,
     pub base_dir: PathBuf,
+    /// What the reader noticed but could render (pbrt's unused parameters).
+    pub warnings: Vec<String>,
 }
 
 /// Reads and validates a scene file (TOML, or JSON by extension, or a Mitsuba 3 `.xml`).
@@ -137,10 +140,13 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
     if is_xml(path) {
         return load_xml_description(path, &crate::io::mitsuba::XmlOptions::default());
     }
+    if crate::io::pbrt::is_pbrt(path) {
+        return load_pbrt_description(path);
+    }
     let syntax = Syntax::from_path(path).ok_or_else(|| {
         Error::input(
             Location::file(path),
-            "unknown scene file extension: expected .toml, .json or .xml",
+            "unknown scene file extension: expected .toml, .json, .xml or .pbrt",
         )
     })?;
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
@@ -160,6 +166,7 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
     Ok(LoadedDescription {
         description,
         base_dir,
+        warnings: Vec::new(),
     })
 }
 
@@ -195,6 +202,33 @@ pub fn load_xml_description(
     Ok(LoadedDescription {
         description,
         base_dir,
+        warnings: Vec::new(),
+    })
+}
+
+/// Reads and validates a pbrt-v4 scene file (see `io::pbrt` and docs/pbrt.md). Its file names
+/// come out absolute; the warnings list the parameters the scene gives and nothing read, as
+/// pbrt reports them.
+pub fn load_pbrt_description(path: &Path) -> Result<LoadedDescription> {
+    let scene = crate::io::pbrt::load_pbrt(path)?;
+    let base_dir = path
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let at_file = |invalid: validate::Invalid| {
+        let message = format!(
+            "in the converted scene, {}: {}",
+            path_string(&invalid.path),
+            invalid.message
+        );
+        Error::input(Location::file(path), message)
+    };
+    validate::validate(&scene.description).map_err(at_file)?;
+    validate::files(&scene.description, &base_dir).map_err(at_file)?;
+    Ok(LoadedDescription {
+        description: scene.description,
+        base_dir,
+        warnings: scene.warnings,
     })
 }
 
@@ -315,10 +349,14 @@ impl Scene {
                 .map_or(0, |i| i as u32 + 1);
             match s {
                 ShapeDesc::Sphere(s) => {
-                    geometry.push(
+                    let id = geometry.push(
                         ShapeKind::Sphere(Sphere::new(s.center.into(), s.radius)),
                         material,
                     );
+                    if let Some(rows) = s.mitsuba_uv {
+                        let rows = glam::Mat3::from_cols_array_2d(&rows).transpose();
+                        geometry.set_sphere_uv_frame(id, rows);
+                    }
                 }
                 ShapeDesc::Plane(p) => {
                     let plane =
@@ -354,6 +392,36 @@ impl Scene {
                         Torus::new(t.center.into(), t.major_radius, t.minor_radius, axis.into());
                     geometry.push(ShapeKind::Torus(torus), material);
                 }
+                ShapeDesc::Cylinder(c) => {
+                    let cylinder =
+                        Cylinder::new(c.to_world(), c.flip_normals).ok_or_else(|| {
+                            Error::Invalid(format!(
+                                "shape[{index}]: the cylinder's transform is not invertible"
+                            ))
+                        })?;
+                    geometry.push(ShapeKind::Cylinder(Box::new(cylinder)), material);
+                }
+                ShapeDesc::SdfGrid(g) => {
+                    let path = base_dir.join(&g.file);
+                    let grid = crate::io::grid_volume::read_grid_volume(&path)?;
+                    let at = |msg: String| Error::input(Location::file(&path), msg);
+                    if grid.channels != 1 {
+                        return Err(at(format!(
+                            "an SDF grid has one channel, this volume has {}",
+                            grid.channels
+                        )));
+                    }
+                    let normals = match g.normals {
+                        description::SdfNormalsDesc::Smooth => SdfNormals::Smooth,
+                        description::SdfNormalsDesc::Analytic => SdfNormals::Analytic,
+                    };
+                    let m = g
+                        .transform
+                        .as_ref()
+                        .map_or(glam::Mat4::IDENTITY, |t| t.matrix());
+                    let sdf = SdfGrid::new(grid.resolution, grid.data, m, normals).map_err(at)?;
+                    geometry.push(ShapeKind::SdfGrid(std::sync::Arc::new(sdf)), material);
+                }
                 ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
                     let mesh = match s {
                         ShapeDesc::Rectangle(_) => basic_meshes::rectangle(),
@@ -369,6 +437,9 @@ impl Scene {
                         basic_meshes::flip_normals(&mut mesh);
                     }
                     geometry.push_mesh(mesh, material);
+                }
+                ShapeDesc::TriangleMesh(t) => {
+                    geometry.push_mesh(basic_meshes::inline_mesh(t), material);
                 }
                 ShapeDesc::Mesh(m) => {
                     mesh_shape::add_mesh_file(

@@ -142,8 +142,21 @@ pub fn validate(d: &Description) -> Result<(), Invalid> {
     for (name, m) in &d.meshes {
         c.at(key("meshes"), |c| {
             c.at(key(name), |c| {
-                if m.file.is_empty() {
-                    return c.fail("file", "`file` must name a mesh file");
+                if m.file.is_empty() == m.triangles.is_empty() {
+                    return c.fail(
+                        "file",
+                        "give `file` (a mesh file) or `triangles`, one of them",
+                    );
+                }
+                for (i, t) in m.triangles.iter().enumerate() {
+                    c.at(key("triangles"), |c| {
+                        c.at(PathSeg::Index(i), |c| {
+                            if t.emitter.is_some() {
+                                return c.fail("emitter", "an instanced mesh cannot emit");
+                            }
+                            shape(c, d, &ShapeDesc::TriangleMesh(t.clone()))
+                        })
+                    })?;
                 }
                 file_pattern(c, d, &m.file)?;
                 material_name(c, d, m.material.as_deref())
@@ -619,6 +632,12 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         ShapeDesc::Sphere(s) => {
             c.finite("center", &s.center)?;
             c.positive("radius", s.radius)?;
+            if let Some(rows) = &s.mitsuba_uv {
+                c.finite("mitsuba_uv", rows.as_flattened())?;
+                for r in rows {
+                    c.non_zero("mitsuba_uv", *r)?;
+                }
+            }
         }
         ShapeDesc::Plane(p) => {
             c.finite("point", &p.point)?;
@@ -664,6 +683,56 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         ShapeDesc::Rectangle(b) | ShapeDesc::Cube(b) | ShapeDesc::Disk(b) => {
             placed(c, &b.transform)?;
             keyframes(c, &b.keyframes, &b.transform)?;
+        }
+        ShapeDesc::Cylinder(cy) => {
+            c.finite("p0", &cy.p0)?;
+            c.finite("p1", &cy.p1)?;
+            c.positive("radius", cy.radius)?;
+            if cy.p0 == cy.p1 {
+                return c.fail(
+                    "p1",
+                    "`p1` must differ from `p0`: the cylinder has no length",
+                );
+            }
+            placed(c, &cy.transform)?
+        }
+        ShapeDesc::SdfGrid(g) => {
+            if g.file.is_empty() {
+                return c.fail("file", "`file` must name a grid volume (.vol)");
+            }
+            placed(c, &g.transform)?
+        }
+        ShapeDesc::TriangleMesh(m) => {
+            // Named by index rather than printed whole: the arrays may be long.
+            let all_finite =
+                |key: &str, v: &[f32], per: usize| match v.iter().position(|x| !x.is_finite()) {
+                    Some(i) => c.fail(key, format!("`{key}[{}]` is not finite", i / per)),
+                    None => Ok(()),
+                };
+            all_finite("positions", m.positions.as_flattened(), 3)?;
+            let n = m.positions.len();
+            if let Some(bad) = m.indices.iter().flatten().find(|&&i| i as usize >= n) {
+                return c.fail(
+                    "indices",
+                    format!("index {bad} is out of range: the mesh has {n} positions"),
+                );
+            }
+            if let Some(normals) = &m.normals {
+                all_finite("normals", normals.as_flattened(), 3)?;
+                if normals.len() != n {
+                    return c.fail(
+                        "normals",
+                        format!("{} normals for {n} positions", normals.len()),
+                    );
+                }
+            }
+            if let Some(uvs) = &m.uvs {
+                all_finite("uvs", uvs.as_flattened(), 2)?;
+                if uvs.len() != n {
+                    return c.fail("uvs", format!("{} uvs for {n} positions", uvs.len()));
+                }
+            }
+            placed(c, &m.transform)?;
         }
     }
     if let Some(e) = s.emitter() {
@@ -785,7 +854,7 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
             })
         }
     };
-    for (name, m) in &d.meshes {
+    for (name, m) in d.meshes.iter().filter(|(_, m)| !m.file.is_empty()) {
         exists(
             &m.file,
             "mesh file",
@@ -799,6 +868,13 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
         }
     }
     for (i, s) in d.shapes.iter().enumerate() {
+        if let ShapeDesc::SdfGrid(g) = s {
+            exists(
+                &g.file,
+                "grid volume",
+                vec![key("shape"), PathSeg::Index(i), key("file")],
+            )?;
+        }
         if let ShapeDesc::Mesh(m) = s {
             let p = base_dir.join(&m.file);
             if !crate::io::mesh_source_exists(&p) {

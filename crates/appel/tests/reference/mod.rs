@@ -87,6 +87,15 @@ pub fn render_xml_with_params(
             .collect(),
     };
     let loaded = load_xml_description(scene, &options).unwrap_or_else(|e| panic!("{e}"));
+    render_loaded(loaded, setup, adjust)
+}
+
+/// Renders a scene read by any reader, its description changed by `adjust` first.
+pub fn render_loaded(
+    loaded: appel::scene::LoadedDescription,
+    setup: &Setup,
+    adjust: impl FnOnce(&mut Description),
+) -> Averaged {
     let mut d = loaded.description;
     d.render.spp = setup.spp;
     adjust(&mut d);

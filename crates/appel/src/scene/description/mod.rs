@@ -69,11 +69,16 @@ pub struct KeyframeDesc {
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MeshDesc {
-    /// A mesh file, relative to the scene file's folder.
+    /// A mesh file, relative to the scene file's folder (or empty, with `triangles`).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub file: String,
     /// Overrides the file's own materials.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// Triangle meshes written out instead of a file (pbrt's object definitions), each with its
+    /// own `material` (or the entry's); they cannot emit.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub triangles: Vec<TriangleMeshDesc>,
 }
 
 /// `[[instance]]`: placements of a declared mesh, by one `transform` or a file of `placements`

@@ -24,6 +24,39 @@ pub enum ShapeDesc {
     Cube(BasicShapeDesc),
     /// Mitsuba's disk: the unit disk in the plane z = 0, facing +z, placed by `transform`.
     Disk(BasicShapeDesc),
+    /// Mitsuba's open cylinder (a tube without caps) from `p0` to `p1`, placed by `transform`.
+    Cylinder(CylinderDesc),
+    /// Mitsuba 3's signed distance grid: a `.vol` grid of distances spanning `[0, 1]^3`, whose zero
+    /// set (trilinearly interpolated) is the surface, placed by `transform`.
+    SdfGrid(SdfGridDesc),
+    /// A triangle mesh written out in the scene (pbrt's `trianglemesh`).
+    #[serde(rename = "trianglemesh")]
+    TriangleMesh(TriangleMeshDesc),
+}
+
+/// `type = "trianglemesh"`: vertices and triangles given inline. The front of each triangle is
+/// the side of `cross(p1 - p0, p2 - p0)`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TriangleMeshDesc {
+    pub positions: Vec<Vec3f>,
+    /// Three vertex indices per triangle.
+    pub indices: Vec<[u32; 3]>,
+    /// One shading normal per vertex.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normals: Option<Vec<Vec3f>>,
+    /// One texture coordinate per vertex.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uvs: Option<Vec<[f32; 2]>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+    /// Turn the normals around (which side is the front for one-sided materials and emitters).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub flip_normals: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emitter: Option<AreaEmitterDesc>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
@@ -31,6 +64,11 @@ pub enum ShapeDesc {
 pub struct SphereDesc {
     pub center: Vec3f,
     pub radius: f32,
+    /// Texture coordinates as Mitsuba's sphere gives them, (azimuth / 2 pi, polar angle / pi),
+    /// about the frame whose unit axes x, y, z (the pole) are these three rows. Without it, u and
+    /// v are arc lengths along longitude and latitude about +y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mitsuba_uv: Option<[Vec3f; 3]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -125,6 +163,101 @@ pub struct BasicShapeDesc {
     pub emitter: Option<AreaEmitterDesc>,
 }
 
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SdfGridDesc {
+    /// A single-channel Mitsuba grid volume (`.vol`), relative to the scene file's folder.
+    pub file: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+    /// Shading normals: `smooth` (blended across voxels, the default) or `analytic` (the
+    /// interpolant's gradient).
+    #[serde(default)]
+    pub normals: SdfNormalsDesc,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum SdfNormalsDesc {
+    #[default]
+    Smooth,
+    Analytic,
+}
+
+/// The tube of radius `radius` around the segment `p0`-`p1` (no caps), then placed by `transform`;
+/// texture coordinates are Mitsuba's (`u` the angle around the axis over 2 pi, `v` along it).
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderDesc {
+    #[serde(default = "origin")]
+    pub p0: Vec3f,
+    #[serde(default = "unit_z")]
+    pub p1: Vec3f,
+    #[serde(default = "one")]
+    pub radius: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformDesc>,
+    /// Normals toward the axis instead of away from it.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub flip_normals: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub emitter: Option<AreaEmitterDesc>,
+}
+
+impl Default for CylinderDesc {
+    fn default() -> Self {
+        Self {
+            p0: origin(),
+            p1: unit_z(),
+            radius: 1.0,
+            transform: None,
+            flip_normals: false,
+            material: None,
+            emitter: None,
+        }
+    }
+}
+
+impl CylinderDesc {
+    /// Where the unit tube (`x^2 + y^2 = 1`, `0 <= z <= 1`) goes: Mitsuba's cylinder frame, with
+    /// its axis along `p1 - p0` and the angle measured from the first vector of the Duff et al.
+    /// basis around it.
+    pub fn to_world(&self) -> glam::Mat4 {
+        use glam::{Mat4, Vec3};
+        let (p0, p1) = (Vec3::from(self.p0), Vec3::from(self.p1));
+        let axis = p1 - p0;
+        let length = axis.length();
+        let z = axis / length;
+        let (x, y) = crate::math::orthonormal_basis(z);
+        let frame = Mat4::from_cols(
+            (x * self.radius).extend(0.0),
+            (y * self.radius).extend(0.0),
+            axis.extend(0.0),
+            p0.extend(1.0),
+        );
+        self.transform
+            .as_ref()
+            .map_or(Mat4::IDENTITY, |t| t.matrix())
+            * frame
+    }
+}
+
+fn origin() -> Vec3f {
+    [0.0; 3]
+}
+
+fn unit_z() -> Vec3f {
+    [0.0, 0.0, 1.0]
+}
+
+fn one() -> f32 {
+    1.0
+}
+
 fn is_false(b: &bool) -> bool {
     !*b
 }
@@ -139,9 +272,12 @@ impl ShapeDesc {
             ShapeDesc::Implicit(s) => s.material.as_deref(),
             ShapeDesc::Torus(s) => s.material.as_deref(),
             ShapeDesc::Mesh(s) => s.material.as_deref(),
+            ShapeDesc::TriangleMesh(s) => s.material.as_deref(),
             ShapeDesc::Rectangle(s) | ShapeDesc::Cube(s) | ShapeDesc::Disk(s) => {
                 s.material.as_deref()
             }
+            ShapeDesc::Cylinder(s) => s.material.as_deref(),
+            ShapeDesc::SdfGrid(s) => s.material.as_deref(),
         }
     }
 
@@ -151,8 +287,13 @@ impl ShapeDesc {
             ShapeDesc::Sphere(s) => s.emitter.as_ref(),
             ShapeDesc::Triangle(s) => s.emitter.as_ref(),
             ShapeDesc::Mesh(s) => s.emitter.as_ref(),
+            ShapeDesc::TriangleMesh(s) => s.emitter.as_ref(),
             ShapeDesc::Rectangle(s) | ShapeDesc::Cube(s) | ShapeDesc::Disk(s) => s.emitter.as_ref(),
-            ShapeDesc::Plane(_) | ShapeDesc::Implicit(_) | ShapeDesc::Torus(_) => None,
+            ShapeDesc::Cylinder(s) => s.emitter.as_ref(),
+            ShapeDesc::Plane(_)
+            | ShapeDesc::Implicit(_)
+            | ShapeDesc::Torus(_)
+            | ShapeDesc::SdfGrid(_) => None,
         }
     }
 
@@ -186,9 +327,12 @@ impl ShapeDesc {
                 x.minor_radius *= s;
             }
             ShapeDesc::Mesh(x) => scale_transform(&mut x.transform),
+            ShapeDesc::TriangleMesh(x) => scale_transform(&mut x.transform),
             ShapeDesc::Rectangle(x) | ShapeDesc::Cube(x) | ShapeDesc::Disk(x) => {
                 scale_transform(&mut x.transform)
             }
+            ShapeDesc::Cylinder(x) => scale_transform(&mut x.transform),
+            ShapeDesc::SdfGrid(x) => scale_transform(&mut x.transform),
         }
     }
 }

@@ -7,12 +7,14 @@ use super::super::document::{Object, Target};
 use super::{columns, rows_f32, Converter, DEFAULT_MATERIAL};
 use crate::error::Result;
 use crate::scene::description::{
-    BasicShapeDesc, InstanceDesc, MeshDesc, MeshShapeDesc, ShapeDesc, SphereDesc, TransformDesc,
+    BasicShapeDesc, CylinderDesc, InstanceDesc, MeshDesc, MeshShapeDesc, SdfGridDesc,
+    SdfNormalsDesc, ShapeDesc, SphereDesc, TransformDesc,
 };
 use glam::{DMat4, DVec3};
 use std::rc::Rc;
 
-const SHAPES: &str = "obj, ply, sphere, rectangle, cube, disk, shapegroup, instance";
+const SHAPES: &str =
+    "obj, ply, serialized, sphere, rectangle, cube, disk, cylinder, sdfgrid, shapegroup, instance";
 
 /// A converted shapegroup.
 #[derive(Clone, Default)]
@@ -57,8 +59,8 @@ impl Converter<'_> {
         let flip_normals =
             |s: &Object| -> Result<bool> { Ok(s.bool("flip_normals")?.unwrap_or(false)) };
         let d = match s.plugin.as_str() {
-            "obj" | "ply" => ShapeDesc::Mesh(MeshShapeDesc {
-                file: self.file(s, "filename")?,
+            "obj" | "ply" | "serialized" => ShapeDesc::Mesh(MeshShapeDesc {
+                file: self.mesh_file(s)?,
                 transform: placed(to_world),
                 face_normals: s.bool("face_normals")?.unwrap_or(false),
                 flip_normals: flip_normals(s)?,
@@ -72,9 +74,13 @@ impl Converter<'_> {
                 let scale = similarity_scale(&to_world).ok_or_else(|| {
                     s.error("a sphere's to_world may only rotate, translate and scale uniformly")
                 })?;
+                // The sphere's own frame orients Mitsuba's parameterisation.
+                let (_, x, y, z) = columns(&to_world);
+                let axis = |v: DVec3| super::f32s(v / scale);
                 ShapeDesc::Sphere(SphereDesc {
                     center: super::f32s(to_world.transform_point3(center)),
                     radius: (radius * scale) as f32,
+                    mitsuba_uv: Some([axis(x), axis(y), axis(z)]),
                     material,
                     emitter,
                 })
@@ -93,10 +99,50 @@ impl Converter<'_> {
                     _ => ShapeDesc::Disk(b),
                 }
             }
-            "serialized" => {
-                return Err(s.error(
-                    "Mitsuba's serialized meshes are not supported: convert the mesh to PLY or OBJ",
-                ))
+            "sdfgrid" => {
+                if emitter.is_some() {
+                    return Err(s.error("an sdfgrid cannot emit (as in Mitsuba)"));
+                }
+                let normals = match s.string("normals")?.unwrap_or("smooth") {
+                    "smooth" => SdfNormalsDesc::Smooth,
+                    "analytic" => SdfNormalsDesc::Analytic,
+                    other => {
+                        let p = s.prop("normals").expect("read above");
+                        return Err(
+                            p.error(format!("unknown normals \"{other}\" (smooth or analytic)"))
+                        );
+                    }
+                };
+                ShapeDesc::SdfGrid(SdfGridDesc {
+                    file: self.file(s, "filename")?,
+                    transform: placed(to_world),
+                    normals,
+                    material,
+                })
+            }
+            "cylinder" => {
+                let point = |name: &str, default: [f64; 3]| -> Result<[f32; 3]> {
+                    Ok(s.vector(name)?.unwrap_or(default).map(|x| x as f32))
+                };
+                let p0 = point("p0", [0.0; 3])?;
+                let p1 = point("p1", [0.0, 0.0, 1.0])?;
+                if p0 == p1 {
+                    return Err(s.error("the cylinder's p0 and p1 coincide: it has no length"));
+                }
+                let radius = s.float_or("radius", 1.0)?;
+                if radius.is_nan() || radius <= 0.0 {
+                    let p = s.prop("radius").expect("read above");
+                    return Err(p.error(format!("the radius must be positive, got {radius}")));
+                }
+                ShapeDesc::Cylinder(CylinderDesc {
+                    p0,
+                    p1,
+                    radius: radius as f32,
+                    transform: placed(to_world),
+                    flip_normals: flip_normals(s)?,
+                    material,
+                    emitter,
+                })
             }
             p => {
                 return Err(s.error(format!(
@@ -106,6 +152,22 @@ impl Converter<'_> {
         };
         s.finish()?;
         Ok(d)
+    }
+
+    /// A mesh shape's file; for `serialized`, only its first mesh (Mitsuba's default
+    /// `shape_index`) can be read.
+    fn mesh_file(&self, s: &Object) -> Result<String> {
+        if s.plugin == "serialized" {
+            if let Some(i) = s.int_in("shape_index", 0..=i32::MAX as i64)? {
+                if i != 0 {
+                    let p = s.prop("shape_index").expect("read above");
+                    return Err(p.error(
+                        "only the first mesh of a serialized file (shape_index 0) is supported",
+                    ));
+                }
+            }
+        }
+        self.file(s, "filename")
     }
 
     /// The shape's material name (Mitsuba's default diffuse if it has no BSDF) and its emitter.
@@ -146,8 +208,8 @@ impl Converter<'_> {
             }
             g.take(child);
             match s.plugin.as_str() {
-                "obj" | "ply" => {
-                    let file = self.file(&s, "filename")?;
+                "obj" | "ply" | "serialized" => {
+                    let file = self.mesh_file(&s)?;
                     let to_world = s.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
                     let (material, emitter) = self.shape_children(&s)?;
                     if let Some(e) = emitter {
@@ -168,6 +230,7 @@ impl Converter<'_> {
                         MeshDesc {
                             file,
                             material: Some(material),
+                            triangles: Vec::new(),
                         },
                     );
                     group.meshes.push((name, to_world));

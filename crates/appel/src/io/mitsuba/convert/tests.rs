@@ -85,19 +85,81 @@ fn every_scene_with_supported_plugins_converts() {
 
 #[test]
 fn plugins_appel_lacks_fail_at_their_line() {
-    let Some(path) = shared(&format!(
+    let e = err(&format!(
+        "<scene version=\"3.0.0\">{CAMERA}\n\n    <shape type=\"bsplinecurve\">\n    </shape>\n</scene>"
+    ));
+    assert!(
+        e.starts_with("scene.xml:3:5: <shape type=\"bsplinecurve\">: unsupported shape plugin"),
+        "{e}"
+    );
+    let e = err(&format!(
+        "<scene version=\"3.0.0\">{CAMERA}\n<medium type=\"homogeneous\"/>\n</scene>"
+    ));
+    assert!(
+        e.starts_with("scene.xml:2:1: <medium type=\"homogeneous\">"),
+        "{e}"
+    );
+}
+
+/// various_shapes: the cylinder keeps its transform, the serialized mesh is a mesh file, and the
+/// sdfgrid inside a shapegroup becomes one shape per instance with the composed transform.
+#[test]
+fn various_shapes_converts_every_shape() {
+    let Some(d) = load(&format!(
         "{SCENES}/various_shapes/test_various_shapes_path.xml"
     )) else {
         return;
     };
-    let e = load_xml(&path, &XmlOptions::default())
-        .unwrap_err()
-        .to_string();
-    let at = format!(
-        "{}:57:5: <shape type=\"cylinder\">: unsupported shape plugin",
-        path.display()
+    let kinds: Vec<&str> = d
+        .shapes
+        .iter()
+        .map(|s| match s {
+            ShapeDesc::Sphere(_) => "sphere",
+            ShapeDesc::Cylinder(_) => "cylinder",
+            ShapeDesc::Disk(_) => "disk",
+            ShapeDesc::Rectangle(_) => "rectangle",
+            ShapeDesc::Cube(_) => "cube",
+            ShapeDesc::Mesh(_) => "mesh",
+            ShapeDesc::SdfGrid(_) => "sdfgrid",
+            _ => "other",
+        })
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            "sphere",
+            "cylinder",
+            "disk",
+            "rectangle",
+            "mesh",
+            "mesh",
+            "mesh",
+            "cube",
+            "cube",
+            "sdfgrid"
+        ]
     );
-    assert!(e.starts_with(&at), "{e}");
+    let ShapeDesc::Mesh(m) = &d.shapes[4] else {
+        unreachable!()
+    };
+    assert!(m
+        .file
+        .ends_with("serialized/rectangle_normals_uv.serialized"));
+    let ShapeDesc::Cylinder(c) = &d.shapes[1] else {
+        unreachable!()
+    };
+    // Scaled by 1.5 across the axis and 2 along it: the axis keeps length 2.
+    let m = c.to_world();
+    assert!((m.x_axis.truncate().length() - 1.5).abs() < 1e-5);
+    assert!((m.z_axis.truncate().length() - 2.0).abs() < 1e-5);
+    let ShapeDesc::SdfGrid(g) = &d.shapes[9] else {
+        unreachable!()
+    };
+    assert_eq!(g.normals, SdfNormalsDesc::Smooth);
+    assert!(g.file.ends_with("torus_sdfgrid.vol"));
+    // Scaled by 2 and 2.5, then rotated: the grid's unit cube is 5 across.
+    let t = g.transform.as_ref().unwrap().matrix();
+    assert!((t.x_axis.truncate().length() - 5.0).abs() < 1e-4);
 }
 
 #[test]
@@ -354,7 +416,16 @@ fn malformed_scenes_fail_at_their_line() {
         "<scene version=\"3.0.0\">{CAMERA}\n<shape type=\"serialized\"/>\n</scene>"
     ));
     assert!(
-        e.starts_with("scene.xml:2:1: <shape type=\"serialized\">: Mitsuba's serialized meshes"),
+        e.starts_with(
+            "scene.xml:2:1: <shape type=\"serialized\">: needs a <string name=\"filename\">"
+        ),
+        "{e}"
+    );
+    let e = err(&format!(
+        "<scene version=\"3.0.0\">{CAMERA}\n<shape type=\"cylinder\">\n<float name=\"radius\" value=\"-1\"/></shape>\n</scene>"
+    ));
+    assert!(
+        e.starts_with("scene.xml:3:1: <float name=\"radius\">: the radius must be positive"),
         "{e}"
     );
     let e = err(&format!("<scene version=\"3.0.0\">{CAMERA}\n<shape type=\"obj\">\n<string name=\"filename\" value=\"none.obj\"/></shape>\n</scene>"));
