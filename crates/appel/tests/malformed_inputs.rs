@@ -100,8 +100,18 @@ fn every_target_has_seeds_and_a_unique_name() {
     names.sort();
     names.dedup();
     assert_eq!(names.len(), TARGETS.len());
+    // `APPEL_FUZZ_WRITE_SEEDS=fuzz/corpus` also writes them out as libFuzzer's starting corpora.
+    let out = std::env::var_os("APPEL_FUZZ_WRITE_SEEDS").map(std::path::PathBuf::from);
     for t in TARGETS {
-        assert!(!(t.seeds)().is_empty(), "{}", t.name);
+        let seeds = (t.seeds)();
+        assert!(!seeds.is_empty(), "{}", t.name);
+        if let Some(out) = &out {
+            let dir = out.join(t.name);
+            std::fs::create_dir_all(&dir).unwrap();
+            for (i, seed) in seeds.iter().enumerate() {
+                std::fs::write(dir.join(format!("seed-{i}-{}", t.file)), seed).unwrap();
+            }
+        }
     }
 }
 
