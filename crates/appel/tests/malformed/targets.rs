@@ -21,7 +21,11 @@ pub enum Located {
 
 /// Errors that are about no one place: a fact of the whole file, or (Mitsuba XML) a problem that
 /// only the validation of the converted description finds, which names the description's key.
-pub const NOT_PLACED: &[&str] = &["the mesh has no triangles", "in the converted scene, "];
+pub const NOT_PLACED: &[&str] = &[
+    "the mesh has no triangles",
+    "the model cannot be viewed",
+    "in the converted scene, ",
+];
 
 pub struct Target {
     /// Also the name of its regression corpus folder, `tests/corpus/NAME`.
