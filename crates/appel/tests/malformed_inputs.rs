@@ -16,7 +16,7 @@ use std::path::Path;
 use std::time::Duration;
 
 /// Mutants per target in CI: a second or so per target in release on two cores.
-const ITERATIONS: usize = 1500;
+const ITERATIONS: usize = 1000;
 
 fn env_number(name: &str) -> Option<u64> {
     let v = std::env::var(name).ok()?;
