@@ -860,7 +860,7 @@ fn malformed_files_of_every_reader_are_rejected_without_output() {
             b"{\"camera\": {\"eye\": [0, 1, 5], \"look_at\": [0, 1, 0]},\n \"shape\": [{\"type\": \"sphere\",\n  \"center\": [0, 0, 0], \"radius\": -1}]}\n",
         )],
         "s.json",
-        &["s.json:3:33:", "radius"],
+        &["s.json:3:34:", "radius"],
     );
     // A scene file that is not UTF-8: the first bad byte's line and column.
     assert_files_rejected(
@@ -902,6 +902,6 @@ fn malformed_files_of_every_reader_are_rejected_without_output() {
             ("t.png", b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\0\0"),
         ],
         "s.toml",
-        &["t.png", "PNG"],
+        &["t.png", "not a readable Png image"],
     );
 }
