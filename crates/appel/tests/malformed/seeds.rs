@@ -270,12 +270,12 @@ pub fn glb() -> Vec<Vec<u8>> {
     let png = png_rgba();
     let png_offset = bin.len();
     bin.extend(&png);
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let json = gltf_json(
         None,
-        &format!(r#"{{"bufferView": 4, "mimeType": "image/png"}}"#),
+        r#"{"bufferView": 4, "mimeType": "image/png"}"#,
     )
     .replace(
         r#""target": 34963}],"#,
@@ -289,7 +289,7 @@ pub fn glb() -> Vec<Vec<u8>> {
         &format!(r#""byteLength": {}}}"#, bin.len()),
     );
     let mut json = json.into_bytes();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let total = 12 + 8 + json.len() + 8 + bin.len();
