@@ -87,6 +87,34 @@ fn parse(
             }
         }
     }
+    // Nor does it check what the gltf crate's `Image::source` and `Camera::projection` unwrap
+    // (found by fuzzing): an image from a buffer view needs a MIME type, any other a URI; a
+    // camera needs the projection its type names.
+    for (i, image) in json.images.iter().enumerate() {
+        let complete = match image.buffer_view {
+            Some(_) => image.mime_type.is_some(),
+            None => image.uri.is_some(),
+        };
+        if !complete {
+            return Err(err(format!(
+                "invalid glTF: image {i} needs a `uri`, or a `bufferView` with a `mimeType`"
+            )));
+        }
+    }
+    for (i, camera) in json.cameras.iter().enumerate() {
+        use ::gltf::json::camera::Type;
+        use ::gltf::json::validation::Checked;
+        let complete = match camera.type_ {
+            Checked::Valid(Type::Perspective) => camera.perspective.is_some(),
+            Checked::Valid(Type::Orthographic) => camera.orthographic.is_some(),
+            Checked::Invalid => false,
+        };
+        if !complete {
+            return Err(err(format!(
+                "invalid glTF: camera {i} needs a `type` of \"perspective\" or \"orthographic\" and the object of that name"
+            )));
+        }
+    }
     let gltf = Gltf {
         document: ::gltf::Document::from_json(raw.document.into_json())
             .map_err(|e| err(format!("invalid glTF: {e}")))?,
