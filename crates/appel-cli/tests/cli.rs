@@ -823,3 +823,85 @@ fn unknown_shape_type_is_rejected_with_the_choices() {
         &["e.toml:", "unknown field `emitter`", "`point`, `normal`"],
     );
 }
+
+/// Writes `files`, renders `scene` to `out.exr`, and checks the failure as `assert_rejected` does.
+fn assert_files_rejected(files: &[(&str, &[u8])], scene: &str, expected: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, bytes) in files {
+        std::fs::write(dir.path().join(name), bytes).unwrap();
+    }
+    let out = appel(&["render", scene, "-o", "out.exr", "--quiet"], dir.path());
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{scene}: {err}");
+    assert!(!err.contains("panicked"), "{scene} panicked: {err}");
+    for e in expected {
+        assert!(err.contains(e), "{scene}: expected `{e}` in: {err}");
+    }
+    assert!(!dir.path().join("out.exr").exists(), "{scene} wrote output");
+}
+
+/// Malformed files of every reader, end to end: exit status 1, the file and line (or byte) in the
+/// message, no output file.
+#[test]
+fn malformed_files_of_every_reader_are_rejected_without_output() {
+    // Mitsuba XML with a tag left open.
+    assert_files_rejected(
+        &[(
+            "s.xml",
+            b"<scene version=\"3.0.0\">\n  <sensor type=\"perspective\">\n  <shape type=\"sphere\"/>\n</scene>\n",
+        )],
+        "s.xml",
+        &["s.xml:4:", "malformed XML"],
+    );
+    // JSON scene: validation errors are placed at the value's line and column.
+    assert_files_rejected(
+        &[(
+            "s.json",
+            b"{\"camera\": {\"eye\": [0, 1, 5], \"look_at\": [0, 1, 0]},\n \"shape\": [{\"type\": \"sphere\",\n  \"center\": [0, 0, 0], \"radius\": -1}]}\n",
+        )],
+        "s.json",
+        &["s.json:3:34:", "radius"],
+    );
+    // A scene file that is not UTF-8: the first bad byte's line and column.
+    assert_files_rejected(
+        &[("s.toml", b"[camera]\neye = [0.0, \xff]\n")],
+        "s.toml",
+        &["s.toml:2:13:"],
+    );
+    // Binary PLY cut short: the byte where the data ends.
+    let mut ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n".to_vec();
+    ply.extend([0u8; 20]);
+    assert_files_rejected(&[("cut.ply", &ply)], "cut.ply", &["cut.ply: at byte"]);
+    // A PLY header without coordinates: the element's line.
+    assert_files_rejected(
+        &[(
+            "nox.ply",
+            b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float y\nproperty float z\nend_header\n0 0\n",
+        )],
+        "nox.ply",
+        &["nox.ply:3:", "no `x` property"],
+    );
+    // glTF that is not JSON, and a zip archive that is not one.
+    assert_files_rejected(
+        &[("m.gltf", b"{\"asset\": ")],
+        "m.gltf",
+        &["m.gltf", "invalid glTF"],
+    );
+    assert_files_rejected(
+        &[("a.zip", b"PK\x03\x04 not really")],
+        "a.zip",
+        &["a.zip", "zip"],
+    );
+    // A scene whose texture is a truncated PNG: the error names the image.
+    let scene = format!(
+        "{CAMERA}[materials.t]\ntype = \"diffuse\"\nreflectance = {{ type = \"bitmap\", file = \"t.png\" }}\n[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"t\"\n"
+    );
+    assert_files_rejected(
+        &[
+            ("s.toml", scene.as_bytes()),
+            ("t.png", b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\0\0"),
+        ],
+        "s.toml",
+        &["t.png", "not a readable Png image"],
+    );
+}

@@ -340,10 +340,22 @@ fn unknown_property_type_names_the_header_line() {
 #[test]
 fn missing_vertex_element_or_coordinates_are_errors() {
     let e = err(b"ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n");
+    // Header problems are placed at their header line: `end_header`, or the element's line.
+    assert!(e.starts_with("test.ply:5: "), "{e}");
     assert!(e.contains("declares no `vertex` element"), "{e}");
     let e = err(b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n");
     assert!(
-        e.contains("the `vertex` element has no `z` property"),
+        e.starts_with("test.ply:3: the `vertex` element has no `z` property"),
+        "{e}"
+    );
+    let e = err(b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty int n\nend_header\n0 0 0\n1\n");
+    assert!(
+        e.starts_with("test.ply:7: the `face` element has no `vertex_indices`"),
+        "{e}"
+    );
+    let e = err(b"ply\nelement vertex 0\nproperty float x\nend_header\n");
+    assert!(
+        e.starts_with("test.ply:4: the PLY header has no `format` line"),
         "{e}"
     );
     let e = err(b"ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n");

@@ -123,10 +123,31 @@ fn unorm16(v: &[u16]) -> Vec<f32> {
     v.iter().map(|&x| x as f32 / 65535.0).collect()
 }
 
+/// Samples in one EXR layer above which the file is refused: 2^28 (a 16k x 16k RGBA image), 1 GiB
+/// as f32.
+const MAX_EXR_SAMPLES: u128 = 1 << 28;
+
 /// The first layer of an EXR file: R, G, B (and A) or Y (and A), or a lone channel of any name
 /// read as grey. Channel names may carry a layer prefix (`diffuse.R`).
 fn read_exr(bytes: &[u8]) -> std::result::Result<Bitmap, String> {
     use exr::prelude::*;
+    // The exr crate allocates a layer's samples as its header declares them, and aborts the
+    // process when that fails (found by fuzzing: a header claiming petabytes). Check first.
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|e| e.to_string())?;
+    for header in &meta.headers {
+        let samples = header.layer_size.width() as u128
+            * header.layer_size.height() as u128
+            * header.channels.list.len() as u128;
+        if samples > MAX_EXR_SAMPLES {
+            return Err(format!(
+                "a layer of {} x {} pixels with {} channels is more than Appel reads",
+                header.layer_size.width(),
+                header.layer_size.height(),
+                header.channels.list.len()
+            ));
+        }
+    }
     let image = read()
         .no_deep_data()
         .largest_resolution_level()

@@ -87,6 +87,34 @@ fn parse(
             }
         }
     }
+    // Nor does it check what the gltf crate's `Image::source` and `Camera::projection` unwrap
+    // (found by fuzzing): an image from a buffer view needs a MIME type, any other a URI; a
+    // camera needs the projection its type names.
+    for (i, image) in json.images.iter().enumerate() {
+        let complete = match image.buffer_view {
+            Some(_) => image.mime_type.is_some(),
+            None => image.uri.is_some(),
+        };
+        if !complete {
+            return Err(err(format!(
+                "invalid glTF: image {i} needs a `uri`, or a `bufferView` with a `mimeType`"
+            )));
+        }
+    }
+    for (i, camera) in json.cameras.iter().enumerate() {
+        use ::gltf::json::camera::Type;
+        use ::gltf::json::validation::Checked;
+        let complete = match camera.type_ {
+            Checked::Valid(Type::Perspective) => camera.perspective.is_some(),
+            Checked::Valid(Type::Orthographic) => camera.orthographic.is_some(),
+            Checked::Invalid => false,
+        };
+        if !complete {
+            return Err(err(format!(
+                "invalid glTF: camera {i} needs a `type` of \"perspective\" or \"orthographic\" and the object of that name"
+            )));
+        }
+    }
     let gltf = Gltf {
         document: ::gltf::Document::from_json(raw.document.into_json())
             .map_err(|e| err(format!("invalid glTF: {e}")))?,
@@ -545,9 +573,19 @@ impl Ctx<'_> {
         let position = world.transform_point3(GVec3::ZERO);
         let axis = world.transform_vector3(-GVec3::Z).normalize_or_zero();
         let (color, intensity) = (light.color(), light.intensity());
-        if !(position.is_finite() && axis != GVec3::ZERO && intensity.is_finite()) {
+        // Found by fuzzing: an infinite or negative colour or intensity, or a position so large
+        // that a unit step along the axis is lost to rounding, would fail validation later
+        // without naming the file.
+        let valid_colour = color.iter().all(|c| c.is_finite() && *c >= 0.0);
+        if !(position.is_finite()
+            && axis != GVec3::ZERO
+            && position + axis != position
+            && intensity.is_finite()
+            && intensity >= 0.0
+            && valid_colour)
+        {
             self.out.warnings.push(format!(
-                "light {}: its node's transform or its intensity is degenerate; it is left out",
+                "light {}: its node's transform, its colour or its intensity is degenerate; it is left out",
                 light.index()
             ));
             return;
@@ -593,7 +631,14 @@ impl Ctx<'_> {
             .name()
             .or(node.name())
             .map_or_else(|| format!("camera {}", camera.index()), str::to_string);
-        if !eye.is_finite() || forward == GVec3::ZERO || up == GVec3::ZERO {
+        // A view direction lost to rounding (a huge eye) or along `up` (a skewed transform) has
+        // no camera frame.
+        if !eye.is_finite()
+            || forward == GVec3::ZERO
+            || up == GVec3::ZERO
+            || eye + forward == eye
+            || forward.cross(up).length_squared() < 1e-12
+        {
             self.out.warnings.push(format!(
                 "{name}: its node's transform is degenerate; the camera is left out"
             ));

@@ -13,6 +13,7 @@ pub mod placements;
 pub mod ply;
 pub mod points;
 pub mod serialized;
+pub mod text;
 
 pub use mesh_file::{
     is_mesh_file, load_mesh, mesh_source_exists, AlphaMode, FileCamera, FileImage, FileMaterial,

@@ -71,6 +71,8 @@ enum Kind {
 struct Prop {
     name: String,
     kind: Kind,
+    /// Its header line, for errors.
+    line: usize,
 }
 
 #[derive(Clone, Debug)]
@@ -78,6 +80,8 @@ struct Element {
     name: String,
     count: u64,
     props: Vec<Prop>,
+    /// Its header line, for errors.
+    line: usize,
 }
 
 impl Element {
@@ -195,8 +199,9 @@ pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
         .iter()
         .position(|e| e.name == "vertex")
         .ok_or_else(|| {
-            Error::input(
-                Location::file(path),
+            header_error(
+                path,
+                header.lines,
                 "the PLY header declares no `vertex` element",
             )
         })?;
@@ -207,23 +212,26 @@ pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
                 kind: Kind::Scalar(_),
                 ..
             }) => {}
-            Some(_) => {
-                return Err(Error::input(
-                    Location::file(path),
+            Some(p) => {
+                return Err(header_error(
+                    path,
+                    p.line,
                     format!("the vertex property `{axis}` is a list; expected a number"),
                 ))
             }
             None => {
-                return Err(Error::input(
-                    Location::file(path),
+                return Err(header_error(
+                    path,
+                    vertex.line,
                     format!("the `vertex` element has no `{axis}` property"),
                 ))
             }
         }
     }
     if vertex.count > u32::MAX as u64 {
-        return Err(Error::input(
-            Location::file(path),
+        return Err(header_error(
+            path,
+            vertex.line,
             format!(
                 "{} vertices: more than the 2^32 - 1 that u32 indices can address",
                 vertex.count
@@ -338,6 +346,7 @@ fn parse_header(data: &[u8], path: &Path) -> Result<Header> {
                     name: name.to_string(),
                     count,
                     props: vec![],
+                    line: line_no,
                 });
             }
             "property" => {
@@ -373,11 +382,13 @@ fn parse_header(data: &[u8], path: &Path) -> Result<Header> {
                                 count,
                                 item: ty(item)?,
                             },
+                            line: line_no,
                         }
                     }
                     [t, name] if *t != "list" => Prop {
                         name: name.to_string(),
                         kind: Kind::Scalar(ty(t)?),
+                        line: line_no,
                     },
                     _ => {
                         return Err(header_error(
@@ -399,8 +410,8 @@ fn parse_header(data: &[u8], path: &Path) -> Result<Header> {
             }
         }
     }
-    let format = format
-        .ok_or_else(|| Error::input(Location::file(path), "the PLY header has no `format` line"))?;
+    let format =
+        format.ok_or_else(|| header_error(path, line_no, "the PLY header has no `format` line"))?;
     Ok(Header {
         format,
         elements,
@@ -468,8 +479,9 @@ fn index_prop(e: &Element, path: &Path) -> Result<Option<usize>> {
         .iter()
         .position(|p| p.name == "vertex_indices" || p.name == "vertex_index")
         .ok_or_else(|| {
-            Error::input(
-                Location::file(path),
+            header_error(
+                path,
+                e.line,
                 format!(
                     "the `{}` element has no `vertex_indices` (or `vertex_index`) property",
                     e.name
@@ -478,8 +490,9 @@ fn index_prop(e: &Element, path: &Path) -> Result<Option<usize>> {
         })?;
     match e.props[i].kind {
         Kind::List { item, .. } if item.is_int() => Ok(Some(i)),
-        _ => Err(Error::input(
-            Location::file(path),
+        _ => Err(header_error(
+            path,
+            e.props[i].line,
             format!(
                 "the {} property `{}` must be a list of integers",
                 e.name, e.props[i].name
@@ -712,7 +725,7 @@ fn fast_binary(data: &[u8], path: &Path, h: &Header, out: &mut Output) -> Result
         && vertex.props.iter().all(|p| p.kind == Kind::Scalar(Ty::F32))
         && matches!(
             face.props.as_slice(),
-            [Prop { name, kind: Kind::List { count: Ty::U8 | Ty::I8, item: Ty::I32 | Ty::U32 } }]
+            [Prop { name, kind: Kind::List { count: Ty::U8 | Ty::I8, item: Ty::I32 | Ty::U32 }, .. }]
                 if name == "vertex_indices" || name == "vertex_index"
         );
     if !fast_layout {
@@ -843,7 +856,7 @@ fn read_ascii(data: &[u8], path: &Path, h: &Header, out: &mut Output) -> Result<
     }
     if need > body.len() as u128 {
         return Err(Error::input(
-            Location::file(path),
+            Location::byte(path, data.len() as u64),
             format!(
                 "the file is too short for its header: the declared records need at least {need} bytes, but only {} bytes follow the header (truncated file, or a header count that is wrong)",
                 body.len()

@@ -144,6 +144,22 @@ pub fn view_model(
             ..c.camera.clone()
         };
     }
+    // A view that does not validate comes from the file (a camera or light whose values make no
+    // sense, bounds too large to frame): say so at the file rather than as a bad setting.
+    crate::scene::validate::validate(&framed).map_err(|invalid| {
+        let file = base
+            .shapes
+            .iter()
+            .find_map(|s| match s {
+                ShapeDesc::Mesh(m) => Some(m.file.clone()),
+                _ => None,
+            })
+            .unwrap_or_default();
+        Error::input(
+            crate::error::Location::file(file),
+            format!("the model cannot be viewed: {}", invalid.message),
+        )
+    })?;
     Ok(framed)
 }
 

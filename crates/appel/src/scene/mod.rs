@@ -150,12 +150,7 @@ pub fn load_description(path: &Path) -> Result<LoadedDescription> {
         )
     })?;
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        Error::input(
-            Location::byte(path, e.utf8_error().valid_up_to() as u64),
-            "the scene file is not valid UTF-8 text",
-        )
-    })?;
+    let text = crate::io::text::utf8_text(bytes, path)?;
     let description = description_from_str(&text, syntax, path)?;
     let base_dir = path
         .parent()
@@ -248,7 +243,12 @@ fn located(invalid: &validate::Invalid, text: &str, syntax: Syntax, origin: &Pat
                 Location::line(origin, line, Some(col))
             })
             .unwrap_or_else(|| Location::file(origin)),
-        Syntax::Json => Location::file(origin),
+        Syntax::Json => parse::json_offset(text, &invalid.path)
+            .map(|at| {
+                let (line, col) = parse::line_column(text, at);
+                Location::line(origin, line, Some(col))
+            })
+            .unwrap_or_else(|| Location::file(origin)),
     };
     let message = format!("{}: {}", path_string(&invalid.path), invalid.message);
     Error::input(location, message)

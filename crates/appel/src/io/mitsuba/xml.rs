@@ -93,12 +93,7 @@ impl<'a> Lines<'a> {
 /// Reads and parses a file; its root element.
 pub fn parse_file(path: &Path) -> Result<Element> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        Error::input(
-            Location::byte(path, e.utf8_error().valid_up_to() as u64),
-            "the file is not valid UTF-8 text",
-        )
-    })?;
+    let text = crate::io::text::utf8_text(bytes, path)?;
     parse_str(&text, path)
 }
 

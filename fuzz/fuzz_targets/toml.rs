@@ -1,0 +1,2 @@
+#![no_main]
+appel_fuzz::fuzz_reader!("toml");
