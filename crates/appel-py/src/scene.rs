@@ -4,7 +4,7 @@ use crate::arrays::{output, slice_mut, Input};
 use crate::errors::to_py;
 use crate::pools;
 use appel::api::{
-    ClosestHits, MeshArrays, Override, Placement, RayHits, RenderRequest, SceneHandle,
+    ClosestHits, Coords, MeshArrays, Override, Placement, RayHits, RenderRequest, SceneHandle,
 };
 use appel::render::{Film, Window};
 use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyReadonlyArray2};
@@ -75,6 +75,27 @@ fn check_interval(tnear: f32, tfar: f32) -> PyResult<()> {
         )));
     }
     Ok(())
+}
+
+/// A query answering one value per ray: checks the rays and the interval, allocates the output
+/// with the rays' leading shape, and fills it on the thread pool with the GIL released.
+fn one_value_per_ray<'py, T: numpy::Element + Send>(
+    py: Python<'py>,
+    origins: &Bound<'py, PyAny>,
+    directions: &Bound<'py, PyAny>,
+    tnear: f32,
+    tfar: f32,
+    threads: Option<i64>,
+    query: impl FnOnce(Coords, Coords, &mut [T]) + Send,
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
+    check_interval(tnear, tfar)?;
+    let (o, d) = rays(origins, directions)?;
+    let out = output::<T>(py, &o.leading(), None);
+    // SAFETY: the array is new and sliced once.
+    let s = unsafe { slice_mut(&out) };
+    let (oc, dc) = (o.coords().unwrap(), d.coords().unwrap());
+    py.allow_threads(|| pools::run(threads, || query(oc, dc, s)))?;
+    Ok(out)
 }
 
 fn film_arrays<'py>(py: Python<'py>, film: Film) -> PyResult<Bound<'py, PyDict>> {
@@ -327,15 +348,16 @@ impl NativeScene {
         tfar: f32,
         threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArrayDyn<bool>>> {
-        check_interval(tnear, tfar)?;
-        let (o, d) = rays(origins, directions)?;
-        let out = output::<bool>(py, &o.leading(), None);
-        // SAFETY: the array is new and sliced once.
-        let s = unsafe { slice_mut(&out) };
-        let (oc, dc) = (o.coords().unwrap(), d.coords().unwrap());
         let h = &self.handle;
-        py.allow_threads(|| pools::run(threads, || h.occluded(oc, dc, tnear, tfar, s)))?;
-        Ok(out)
+        one_value_per_ray(
+            py,
+            origins,
+            directions,
+            tnear,
+            tfar,
+            threads,
+            |o, d, out| h.occluded(o, d, tnear, tfar, out),
+        )
     }
 
     #[pyo3(signature = (origins, directions, tnear, tfar, threads))]
@@ -348,15 +370,16 @@ impl NativeScene {
         tfar: f32,
         threads: Option<i64>,
     ) -> PyResult<Bound<'py, PyArrayDyn<i32>>> {
-        check_interval(tnear, tfar)?;
-        let (o, d) = rays(origins, directions)?;
-        let out = output::<i32>(py, &o.leading(), None);
-        // SAFETY: the array is new and sliced once.
-        let s = unsafe { slice_mut(&out) };
-        let (oc, dc) = (o.coords().unwrap(), d.coords().unwrap());
         let h = &self.handle;
-        py.allow_threads(|| pools::run(threads, || h.count_intersections(oc, dc, tnear, tfar, s)))?;
-        Ok(out)
+        one_value_per_ray(
+            py,
+            origins,
+            directions,
+            tnear,
+            tfar,
+            threads,
+            |o, d, out| h.count_intersections(o, d, tnear, tfar, out),
+        )
     }
 
     #[pyo3(signature = (origins, directions, tnear, tfar, threads))]
