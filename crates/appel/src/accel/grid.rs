@@ -6,9 +6,8 @@
 //! Akenine-Moller triangle/box test for triangles), that it really touches. Cells are stored in CSR
 //! form: `offsets[c]..offsets[c + 1]` is cell `c`'s range of the flat `items` list.
 
-use super::bvh::RayBox;
 use super::{test_primitive, AccelStats, Hit, Primitives, TraversalStats};
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{far_scale, Aabb, Ray, RayBox, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -214,7 +213,7 @@ impl Grid {
         let rb = RayBox::new(ray);
         let (t0, _) =
             self.bounds
-                .slab_intersect(ray, Vec3::from(rb.inv), t_max * super::bvh::far_scale())?;
+                .slab_intersect(ray, Vec3::from(rb.inv), t_max * far_scale())?;
         let p = ray.at(t0);
         let mut c: [u32; 3] = std::array::from_fn(|a| self.coord(p[a], a));
         // Per axis: the direction of stepping (0 for a zero component, which never steps), and the

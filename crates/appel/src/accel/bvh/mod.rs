@@ -11,7 +11,6 @@ mod wide;
 
 pub use build::{BvhOptions, BvhSplit};
 pub use node::BvhNode;
-pub(crate) use traverse::{far_scale, RayBox};
 pub use wide::{QuadBlock, TriBlock, WideBvh, WideNode, PACKET};
 
 use super::{AccelStats, Hit, Primitives, TraversalStats};
