@@ -36,6 +36,9 @@ pub struct Sequence {
     base_dir: PathBuf,
     pub scene: Scene,
     pub frame: u32,
+    /// What building the first frame did, in the terms [`Self::advance`] reports: its files
+    /// loaded and every structure (the top level and each declared mesh's) built from scratch.
+    pub first_build: FrameUpdate,
     /// SAH cost when last built of the top level (index 0) and of each declared mesh's structure,
     /// where the structure can be refitted.
     built_cost: Vec<Option<f64>>,
@@ -76,11 +79,19 @@ impl Sequence {
                 .iter()
                 .map(|p| p.accel.current_sah_cost()),
         );
+        let first_build = FrameUpdate {
+            frame,
+            load: scene.timings.load,
+            rebuild: scene.timings.build,
+            rebuilt: built_cost.len(),
+            ..Default::default()
+        };
         Ok(Self {
             description: d.clone(),
             base_dir: base_dir.to_path_buf(),
             scene,
             frame,
+            first_build,
             built_cost,
         })
     }
