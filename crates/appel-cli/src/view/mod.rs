@@ -14,6 +14,7 @@ mod lecture_api;
 mod messages;
 mod server;
 mod session;
+mod srgb8;
 
 use crate::scene_args::{load_scene, ParamArgs, ViewArgs as CameraArgs};
 use anyhow::{bail, Result};
