@@ -15,6 +15,7 @@ mod messages;
 mod server;
 mod session;
 mod srgb8;
+mod stage;
 
 use crate::scene_args::{load_scene, ParamArgs, ViewArgs as CameraArgs};
 use anyhow::{bail, Result};
