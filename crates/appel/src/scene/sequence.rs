@@ -71,6 +71,14 @@ impl Sequence {
     pub fn new(d: &Description, base_dir: &Path, frame: u32) -> Result<Self> {
         check_frame(d, frame)?;
         let scene = Scene::new(&at_frame(d, frame), base_dir)?;
+        Self::from_scene(d, base_dir, frame, scene)
+    }
+
+    /// The sequence at `frame` from its scene already built from `at_frame(d, frame)` with its
+    /// structures (as `Scene::new` builds it), so that a caller holding that scene need not
+    /// build it again.
+    pub fn from_scene(d: &Description, base_dir: &Path, frame: u32, scene: Scene) -> Result<Self> {
+        check_frame(d, frame)?;
         let mut built_cost = vec![scene.accel.current_sah_cost()];
         built_cost.extend(
             scene
