@@ -240,6 +240,25 @@ mod tests {
         assert_eq!(AccelKind::default(), AccelKind::Bvh);
     }
 
+    /// Every registered structure's default options pass its own checks and read back the same
+    /// from the TOML they write (a scene printed by `appel scenes --write` keeps its tables).
+    #[test]
+    fn default_options_are_valid_and_round_trip_through_toml() {
+        fn check<S: Structure>() {
+            let o = S::Options::default();
+            assert_eq!(S::check_options(&o), Ok(()), "{}", S::NAME);
+            let text = toml::to_string(&o).unwrap();
+            let back: S::Options = toml::from_str(&text).unwrap();
+            assert_eq!(back, o, "{}: {text}", S::NAME);
+        }
+        macro_rules! each {
+            ($($Variant:ident($module:ident::$Type:ident)),* $(,)?) => {
+                $(check::<$Type>();)*
+            };
+        }
+        for_each_structure!(each);
+    }
+
     /// Counts which question each structure asks a primitive.
     struct Asked<'a> {
         inner: MeshPrimitives<'a>,
