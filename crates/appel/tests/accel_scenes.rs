@@ -2,7 +2,9 @@
 //! normals and ids with every structure and BVH layout, and the scene file's `[render.bvh]`,
 //! `[render.grid]` and `[render.kdtree]` tables reach the structure that is built.
 
-use appel::accel::{Accel, AccelKind, BspOptions, BvhOptions, BvhSplit, GridOptions, OctreeOptions};
+use appel::accel::{
+    Accel, AccelKind, BspOptions, BvhOptions, BvhSplit, GridOptions, OctreeOptions,
+};
 use appel::render::{render, Film, RenderOptions};
 use appel::scene::builtin::builtin_scene;
 use appel::scene::description::Description;
