@@ -161,7 +161,11 @@ fn bad_structure_parameters_are_rejected_at_their_line() {
     assert_rejected(
         "o.toml",
         &format!("{CAMERA}[render.octree]\nmax_prims = 4\nmax_depth = 30\n"),
-        &["o.toml:6:13", "render.octree.max_depth", "between 0 and 24, got 30"],
+        &[
+            "o.toml:6:13",
+            "render.octree.max_depth",
+            "between 0 and 24, got 30",
+        ],
     );
     assert_rejected(
         "b.toml",
@@ -176,7 +180,11 @@ fn bad_structure_parameters_are_rejected_at_their_line() {
     assert_rejected(
         "n.toml",
         &format!("{CAMERA}[render.octree]\nmax_leaf = 4\n"),
-        &["n.toml:5:1", "unknown field `max_leaf`", "expected `max_prims` or `max_depth`"],
+        &[
+            "n.toml:5:1",
+            "unknown field `max_leaf`",
+            "expected `max_prims` or `max_depth`",
+        ],
     );
     assert_rejected(
         "d.toml",

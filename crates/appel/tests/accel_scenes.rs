@@ -2,7 +2,9 @@
 //! normals and ids with every structure and BVH layout, and the scene file's `[render.bvh]`,
 //! `[render.grid]` and `[render.kdtree]` tables reach the structure that is built.
 
-use appel::accel::{Accel, AccelKind, BvhOptions, BvhSplit, GridOptions};
+use appel::accel::{
+    Accel, AccelKind, BspOptions, BvhOptions, BvhSplit, GridOptions, OctreeOptions,
+};
 use appel::render::{render, Film, RenderOptions};
 use appel::scene::builtin::builtin_scene;
 use appel::scene::description::Description;
@@ -106,6 +108,35 @@ fn scene_tables_set_the_structure_parameters() {
         sparse < default && default < dense,
         "{sparse} {default} {dense}"
     );
+
+    // The octree's and the BSP's depth limits hold, and without them the trees are deeper.
+    let octree = |max_depth| {
+        let mut d = builtin("mirror-room", 8, 8);
+        d.render.accel = "octree".into();
+        d.render.octree = Some(OctreeOptions {
+            max_prims: 1,
+            max_depth,
+        });
+        Scene::new(&d, Path::new(".")).unwrap().accel.stats()
+    };
+    let (flat, deep) = (octree(0), octree(16));
+    assert_eq!((flat.depth, flat.nodes, flat.leaves), (0, 0, 1));
+    assert!(deep.depth > 1, "{deep:?}");
+    let bsp = |max_depth| {
+        let mut d = builtin("mirror-room", 8, 8);
+        d.render.accel = "bsp".into();
+        // Leaf tests costed high, so that the SAH splits the room's few large primitives.
+        d.render.bsp = Some(BspOptions {
+            max_prims: 1,
+            max_depth,
+            intersect_cost: 100.0,
+            ..Default::default()
+        });
+        Scene::new(&d, Path::new(".")).unwrap().accel.stats()
+    };
+    let (shallow, deep) = (bsp(Some(1)), bsp(None));
+    assert!(shallow.depth <= 1, "{shallow:?}");
+    assert!(deep.depth > 1, "{deep:?}");
 }
 
 /// With one sample per pixel the renderer traces camera rays in packets of eight wherever the

@@ -331,7 +331,6 @@ impl Grid {
     }
 }
 
-
 impl Structure for Grid {
     const NAME: &'static str = "grid";
     type Options = GridOptions;

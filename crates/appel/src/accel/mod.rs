@@ -18,8 +18,8 @@ pub use grid::GridOptions;
 pub use kdtree::{KdNode, KdOptions};
 pub use mesh_prims::MeshPrimitives;
 pub use octree::OctreeOptions;
-pub(crate) use registry::for_each_structure;
 use registry::define_structures;
+pub(crate) use registry::for_each_structure;
 pub use stats::{AccelStats, TraversalStats};
 pub use structure::{BadOption, NoOptions, Structure};
 
@@ -238,6 +238,25 @@ mod tests {
         }
         assert_eq!(AccelKind::from_name("bih"), None);
         assert_eq!(AccelKind::default(), AccelKind::Bvh);
+    }
+
+    /// Every registered structure's default options pass its own checks and read back the same
+    /// from the TOML they write (a scene printed by `appel scenes --write` keeps its tables).
+    #[test]
+    fn default_options_are_valid_and_round_trip_through_toml() {
+        fn check<S: Structure>() {
+            let o = S::Options::default();
+            assert_eq!(S::check_options(&o), Ok(()), "{}", S::NAME);
+            let text = toml::to_string(&o).unwrap();
+            let back: S::Options = toml::from_str(&text).unwrap();
+            assert_eq!(back, o, "{}: {text}", S::NAME);
+        }
+        macro_rules! each {
+            ($($Variant:ident($module:ident::$Type:ident)),* $(,)?) => {
+                $(check::<$Type>();)*
+            };
+        }
+        for_each_structure!(each);
     }
 
     /// Counts which question each structure asks a primitive.

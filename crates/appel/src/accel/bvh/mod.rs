@@ -257,7 +257,6 @@ impl Bvh {
     }
 }
 
-
 impl Structure for Bvh {
     const NAME: &'static str = "bvh";
     type Options = BvhOptions;
