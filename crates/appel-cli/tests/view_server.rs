@@ -355,7 +355,7 @@ fn an_animation_plays_by_refitting_pauses_and_refuses_bad_frame_selections() {
     let mut stills = Vec::new();
     while stills
         .last()
-        .map_or(true, |i: &serde_json::Value| i["spp"] != 2)
+        .is_none_or(|i: &serde_json::Value| i["spp"] != 2)
     {
         let (info, _) = frame(&mut ws);
         if info["preview"] == false {
