@@ -141,13 +141,28 @@ fn streams_frames_that_refine_and_follow_the_camera() {
     let mut n = 0;
     let hello = until(&mut ws, "hello", &mut n);
     assert_eq!(hello["width"], 64);
+    assert_eq!(hello["format"], "raw", "raw RGBA on loopback");
     let (first, img) = frame(&mut ws);
     assert_eq!(first["preview"], false);
-    assert_eq!(u32::from_le_bytes(img[4..8].try_into().unwrap()), 64);
-    let decoded = image::load_from_memory(&img[16..]).unwrap().to_rgb8();
-    assert_eq!(decoded.dimensions(), (64, 48));
+    let word = |img: &[u8], k: usize| u32::from_le_bytes(img[4 * k..4 * k + 4].try_into().unwrap());
+    assert_eq!((word(&img, 1), word(&img, 2), word(&img, 3)), (64, 48, 2));
+    assert_eq!(img.len(), 16 + 64 * 48 * 4);
+    assert!(img[16..].chunks(4).all(|p| p[3] == 255));
     let (second, _) = frame(&mut ws);
     assert_eq!(second["spp"], 2);
+    // JPEG frames decode to the stated size.
+    ws.send(Message::Text(
+        r#"{"type":"settings","format":"jpeg"}"#.into(),
+    ))
+    .unwrap();
+    let jpeg = loop {
+        let (info, img) = frame(&mut ws);
+        if word(&img, 3) == 0 && info["preview"] == false {
+            break img;
+        }
+    };
+    let decoded = image::load_from_memory(&jpeg[16..]).unwrap().to_rgb8();
+    assert_eq!(decoded.dimensions(), (64, 48));
     // A moving camera gets a half-resolution preview.
     ws.send(Message::Text(
         r#"{"type":"camera","eye":[0,2,9],"look_at":[0,1,0],"up":[0,1,0],"fov":45,"moving":true}"#
