@@ -1,6 +1,6 @@
 //! `appel view` as a server: it serves its pages and nothing from disk, refuses malformed and
 //! oversized requests and WebSocket messages without falling over, caps connections, survives a
-//! client vanishing mid-frame, streams frames, and stops on Ctrl-C.
+//! client vanishing mid-frame, streams frames, plays animations, and stops on Ctrl-C.
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
@@ -141,13 +141,28 @@ fn streams_frames_that_refine_and_follow_the_camera() {
     let mut n = 0;
     let hello = until(&mut ws, "hello", &mut n);
     assert_eq!(hello["width"], 64);
+    assert_eq!(hello["format"], "raw", "raw RGBA on loopback");
     let (first, img) = frame(&mut ws);
     assert_eq!(first["preview"], false);
-    assert_eq!(u32::from_le_bytes(img[4..8].try_into().unwrap()), 64);
-    let decoded = image::load_from_memory(&img[16..]).unwrap().to_rgb8();
-    assert_eq!(decoded.dimensions(), (64, 48));
+    let word = |img: &[u8], k: usize| u32::from_le_bytes(img[4 * k..4 * k + 4].try_into().unwrap());
+    assert_eq!((word(&img, 1), word(&img, 2), word(&img, 3)), (64, 48, 2));
+    assert_eq!(img.len(), 16 + 64 * 48 * 4);
+    assert!(img[16..].chunks(4).all(|p| p[3] == 255));
     let (second, _) = frame(&mut ws);
     assert_eq!(second["spp"], 2);
+    // JPEG frames decode to the stated size.
+    ws.send(Message::Text(
+        r#"{"type":"settings","format":"jpeg"}"#.into(),
+    ))
+    .unwrap();
+    let jpeg = loop {
+        let (info, img) = frame(&mut ws);
+        if word(&img, 3) == 0 && info["preview"] == false {
+            break img;
+        }
+    };
+    let decoded = image::load_from_memory(&jpeg[16..]).unwrap().to_rgb8();
+    assert_eq!(decoded.dimensions(), (64, 48));
     // A moving camera gets a half-resolution preview.
     ws.send(Message::Text(
         r#"{"type":"camera","eye":[0,2,9],"look_at":[0,1,0],"up":[0,1,0],"fov":45,"moving":true}"#
@@ -188,6 +203,9 @@ fn malformed_websocket_messages_get_errors_and_the_session_goes_on() {
         r#"{"type":"settings","width":999999,"height":1}"#,
         r#"{"type":"settings","accel":"/etc/passwd"}"#,
         r#"{"no":"type"}"#,
+        // Not an animated scene.
+        r#"{"type":"play","playing":true}"#,
+        r#"{"type":"seek","frame":0}"#,
     ] {
         ws.send(Message::Text(bad.into())).unwrap();
         let e = until(&mut ws, "error", &mut n);
@@ -284,4 +302,107 @@ fn ctrl_c_stops_the_server_cleanly() {
         std::thread::sleep(Duration::from_millis(50));
     };
     assert!(code.success(), "{code:?}");
+}
+
+/// `appel gen cloth` at a small size: 48 frames of a waving flag and keyframed birds.
+fn small_cloth() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let status = Command::new(env!("CARGO_BIN_EXE_appel"))
+        .args(["gen", "cloth", "--detail", "0.01", "--quiet", "-o"])
+        .arg(dir.path())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    dir
+}
+
+#[test]
+fn an_animation_plays_by_refitting_pauses_and_refuses_bad_frame_selections() {
+    let dir = small_cloth();
+    let scene = dir.path().join("cloth.toml");
+    let s = Server::start(&[scene.to_str().unwrap(), "--size", "48x36", "--spp", "2"]);
+    let mut ws = s.ws();
+    let mut n = 0;
+    let hello = until(&mut ws, "hello", &mut n);
+    assert_eq!(hello["frames"], 48);
+    // Paused at first: still passes of frame 0.
+    let (first, _) = frame(&mut ws);
+    assert_eq!(
+        (first["anim_frame"].as_u64(), first["preview"].as_bool()),
+        (Some(0), Some(false))
+    );
+    for bad in [
+        r#"{"type":"seek","frame":48}"#,
+        r#"{"type":"seek","frame":-1}"#,
+        r#"{"type":"seek","frame":"3"}"#,
+        r#"{"type":"seek"}"#,
+        r#"{"type":"play"}"#,
+    ] {
+        ws.send(Message::Text(bad.into())).unwrap();
+        let e = until(&mut ws, "error", &mut n);
+        let text = e["message"].as_str().unwrap();
+        assert!(
+            text.contains("seek") || text.contains("play"),
+            "{bad}: {text}"
+        );
+    }
+    // Playing: previews of successive frames, each reached by refitting the flag's BVH.
+    ws.send(Message::Text(r#"{"type":"play","playing":true}"#.into()))
+        .unwrap();
+    let mut shown = Vec::new();
+    while shown.len() < 6 {
+        let (info, _) = frame(&mut ws);
+        if info["preview"] == true {
+            let step = &info["step"];
+            assert_eq!(step["frame"], info["anim_frame"]);
+            assert!(step["refitted"].as_u64().unwrap() >= 1, "{step}");
+            assert!(step["refit_ms"].as_f64().unwrap() >= 0.0);
+            shown.push(info["anim_frame"].as_u64().unwrap());
+        }
+    }
+    assert!(
+        shown.windows(2).all(|w| w[1] == (w[0] + 1) % 48),
+        "{shown:?}"
+    );
+    // Paused: the frame stays and converges.
+    ws.send(Message::Text(r#"{"type":"play","playing":false}"#.into()))
+        .unwrap();
+    let mut stills = Vec::new();
+    while stills
+        .last()
+        .is_none_or(|i: &serde_json::Value| i["spp"] != 2)
+    {
+        let (info, _) = frame(&mut ws);
+        if info["preview"] == false {
+            stills.push(info);
+        }
+    }
+    let paused_at = stills[0]["anim_frame"].as_u64().unwrap();
+    assert!(stills
+        .iter()
+        .all(|i| i["anim_frame"] == paused_at && i["playing"] == false));
+    // Paused on the frame playing reached, a few frames past the last one read.
+    assert!(
+        (paused_at + 48 - shown[5]) % 48 <= 8,
+        "{paused_at} after {shown:?}"
+    );
+    // Seeking shows the frame asked for, and an image that differs from frame 0's.
+    ws.send(Message::Text(r#"{"type":"seek","frame":20}"#.into()))
+        .unwrap();
+    let (at20, img20) = loop {
+        let (info, img) = frame(&mut ws);
+        if info["anim_frame"] == 20 && info["spp"] == 2 {
+            break (info, img);
+        }
+    };
+    assert_eq!(at20["preview"], false);
+    ws.send(Message::Text(r#"{"type":"seek","frame":0}"#.into()))
+        .unwrap();
+    let img0 = loop {
+        let (info, img) = frame(&mut ws);
+        if info["anim_frame"] == 0 && info["spp"] == 2 {
+            break img;
+        }
+    };
+    assert_ne!(img0, img20);
 }

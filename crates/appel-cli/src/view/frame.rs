@@ -115,6 +115,25 @@ pub fn format_code(name: &str) -> u32 {
     }
 }
 
+pub fn format_name(code: u32) -> &'static str {
+    match code {
+        FORMAT_PNG => "png",
+        FORMAT_RAW => "raw",
+        _ => "jpeg",
+    }
+}
+
+/// The format frames start in: on loopback, where bytes cost a copy, raw RGBA, which costs the
+/// least to make and to draw (docs/performance.md, "The viewer in a browser"); over a network
+/// JPEG, whose frames are about 30x smaller.
+pub fn default_format(peer_is_loopback: bool) -> u32 {
+    if peer_is_loopback {
+        FORMAT_RAW
+    } else {
+        FORMAT_JPEG
+    }
+}
+
 /// The binary message of one frame.
 pub fn encode(rgb8: &[u8], width: u32, height: u32, format: u32) -> Vec<u8> {
     let mut out = Vec::with_capacity(16 + rgb8.len() / 4);

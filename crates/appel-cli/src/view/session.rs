@@ -2,9 +2,10 @@
 //! (lower resolution, raycast or Whitted, one sample) and, once the camera is still, refines the
 //! image with passes of one sample of the chosen integrator, each with its own seed, averaged
 //! (each pass is an independent estimate of the pixel, so their mean converges like one render
-//! with as many samples). An animated scene plays as previews, one animation frame per rendered
-//! frame, its structures refitted from frame to frame (`Sequence::advance`); paused, its frame
-//! converges like a still scene.
+//! with as many samples). An animated scene plays as previews, stepping one animation frame per
+//! rendered frame and at most at the animation's frame rate (slower if rendering is slower), its
+//! structures refitted from frame to frame (`Sequence::advance`); paused, its frame converges
+//! like a still scene.
 //!
 //! Pipelining: each frame renders on a worker thread (`stage.rs`) while this thread reads the
 //! page's messages and encodes and sends the frame before. Flow control: at most
@@ -65,13 +66,26 @@ struct Playback {
     /// The animation frame to show: the stage's own, unless the page asked for another.
     frame: u32,
     playing: bool,
+    /// When playing last stepped to the next frame: it steps at most `fps` times a second.
+    last_step: Instant,
+}
+
+impl Playback {
+    /// How long until playing may step to the next frame (zero if it may now).
+    fn step_due_in(&self) -> Duration {
+        Duration::from_secs_f32(1.0 / self.fps.max(1e-3)).saturating_sub(self.last_step.elapsed())
+    }
 }
 
 impl View {
     /// Whether there is a frame to render: a preview while the camera moves or the animation
     /// plays, else the still passes not yet started.
     fn has_work(&self) -> bool {
-        self.moving || self.playing() || self.started < self.spp
+        let step_due = self
+            .animation
+            .as_ref()
+            .is_some_and(|a| a.playing && a.step_due_in().is_zero());
+        self.moving || step_due || (!self.playing() && self.started < self.spp)
     }
 
     fn playing(&self) -> bool {
@@ -99,6 +113,7 @@ pub fn run(ws: &mut WebSocket<TcpStream>, shared: &Shared, stop: &AtomicBool) {
             fps: d.animation.as_ref().map_or(24.0, |a| a.fps),
             frame: 0,
             playing: false,
+            last_step: Instant::now(),
         }),
         Stage::Still(_) => None,
     };
@@ -108,7 +123,7 @@ pub fn run(ws: &mut WebSocket<TcpStream>, shared: &Shared, stop: &AtomicBool) {
         preview: IntegratorKind::Whitted,
         preview_scale: 2,
         aov: "color".into(),
-        format: frame::FORMAT_JPEG,
+        format: frame::default_format(ws.get_ref().peer_addr().is_ok_and(|a| a.ip().is_loopback())),
         spp: scene.settings.spp.max(1),
         width: c.width,
         height: c.height,
@@ -162,7 +177,12 @@ fn serve_frames<'s>(
         let wait = match (&job, can_start) {
             (Some(_), _) => 2,
             (None, true) => 1,
-            (None, false) => 50,
+            // Idle: until the next animation step, if playing, else 50 ms.
+            (None, false) => view
+                .animation
+                .as_ref()
+                .filter(|a| a.playing)
+                .map_or(50, |a| a.step_due_in().as_millis().clamp(1, 50) as u64),
         };
         let Ok(msgs) = read_messages(link.ws, wait) else {
             break;
@@ -262,8 +282,9 @@ fn next_job(view: &mut View, stage: Stage) -> Job {
     let preview = view.moving || view.playing();
     let to_frame = view.animation.as_mut().and_then(|a| {
         let at = stage.frame();
-        if a.playing && a.frame == at {
+        if a.playing && a.frame == at && a.step_due_in().is_zero() {
             a.frame = (at + 1) % a.frames;
+            a.last_step = Instant::now();
         }
         (a.frame != at).then_some(a.frame)
     });
@@ -587,6 +608,7 @@ fn hello(view: &View, scene: &Scene) -> serde_json::Value {
         "accels": appel::accel::AccelKind::NAMES,
         "aovs": messages::AOVS,
         "formats": messages::FORMATS,
+        "format": frame::format_name(view.format),
         "scene_size": (b.max - b.min).length(),
         "frames": view.animation.as_ref().map_or(1, |a| a.frames),
         "fps": view.animation.as_ref().map(|a| a.fps),

@@ -98,6 +98,9 @@ impl Job {
         let (mut film, mut cost, mut render_time) = (None, None, Duration::ZERO);
         if !matches!(update, Some(Err(_))) {
             let scene = self.stage.scene_mut();
+            // The scene's own camera and settings come back afterwards: a scene put back for
+            // the next session starts from them.
+            let own = (scene.camera, scene.settings);
             scene.camera = self.camera;
             scene.settings.spp = 1;
             scene.settings.integrator = self.integrator;
@@ -112,6 +115,7 @@ impl Job {
                 cost = Some(pixel_costs(scene));
             }
             render_time = start.elapsed();
+            (scene.camera, scene.settings) = own;
         }
         let rendered = Rendered {
             film,

@@ -48,14 +48,19 @@
     const w = head.getUint32(4, true), h = head.getUint32(8, true), format = head.getUint32(12, true);
     const body = new Uint8Array(buf, 16);
     let bitmap;
-    if (format === 2) {
+    if (format === 2 && w === canvas.width && h === canvas.height) {
+      // Raw RGBA of the canvas's size: put as it is, with no bitmap to make.
+      ctx.putImageData(new ImageData(new Uint8ClampedArray(body.buffer, 16, w * h * 4), w, h), 0, 0);
+    } else if (format === 2) {
       bitmap = await createImageBitmap(new ImageData(new Uint8ClampedArray(body.buffer, 16, w * h * 4), w, h));
     } else {
       bitmap = await createImageBitmap(new Blob([body], { type: format === 1 ? "image/png" : "image/jpeg" }));
     }
-    ctx.imageSmoothingEnabled = true;
-    ctx.drawImage(bitmap, 0, 0, canvas.width, canvas.height);
-    bitmap.close();
+    if (bitmap) {
+      ctx.imageSmoothingEnabled = true;
+      ctx.drawImage(bitmap, 0, 0, canvas.width, canvas.height);
+      bitmap.close();
+    }
     state.frames += 1;
     const now = performance.now();
     state.times.push(now);
@@ -80,7 +85,7 @@
     fill("preview", m.previews, "whitted");
     fill("accel", m.accels, m.accel);
     fill("aov", m.aovs, "color");
-    fill("format", m.formats, "jpeg");
+    fill("format", m.formats, m.format);
     $("spp").value = m.spp;
     const size = `${m.width}x${m.height}`;
     if (![...$("size").options].some((o) => o.value === size)) { const o = document.createElement("option"); o.textContent = size; $("size").appendChild(o); }
