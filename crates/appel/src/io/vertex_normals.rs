@@ -59,8 +59,8 @@ mod tests {
             Vec3::new(-1.0, 0.5, 0.0),
         ];
         let n = angle_weighted(&p, &[[0, 1, 2], [0, 2, 3], [0, 3, 4]]);
-        for v in 0..5 {
-            assert!(close(n[v], Vec3::Z), "{v}: {:?}", n[v]);
+        for (v, n) in n.iter().enumerate() {
+            assert!(close(*n, Vec3::Z), "{v}: {n:?}");
         }
     }
 

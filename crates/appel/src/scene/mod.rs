@@ -219,16 +219,9 @@ pub fn load_pbrt_description(path: &Path) -> Result<LoadedDescription> {
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_else(|| PathBuf::from("."));
-    let at_file = |invalid: validate::Invalid| {
-        let message = format!(
-            "in the converted scene, {}: {}",
-            path_string(&invalid.path),
-            invalid.message
-        );
-        Error::input(Location::file(path), message)
-    };
-    validate::validate(&scene.description).map_err(at_file)?;
-    validate::files(&scene.description, &base_dir).map_err(at_file)?;
+    let placed = |invalid: validate::Invalid| converted_error(&invalid, &scene.origins, path);
+    validate::validate(&scene.description).map_err(placed)?;
+    validate::files(&scene.description, &base_dir).map_err(placed)?;
     Ok(LoadedDescription {
         description: scene.description,
         base_dir,

@@ -247,3 +247,33 @@ fn object_meshes_become_appel_instances() {
     );
     crate::scene::validate::validate(d).unwrap();
 }
+
+/// Problems that only the validation of the converted description finds are reported at the
+/// line of the parameter that gave the value, or of the directive that made the entry.
+#[test]
+fn validation_errors_point_at_the_directive() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static N: AtomicUsize = AtomicUsize::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "appel-pbrt-valid-{}-{}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("a.pbrt");
+    let text = format!(
+        "{CAMERA}WorldBegin\nShape \"sphere\"\nLightSource \"point\"\n  \"rgb I\" [ 1 -1 1 ]\n"
+    );
+    std::fs::write(&path, text).unwrap();
+    let e = crate::scene::load_description(&path)
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    let e = e.replace(&format!("{}/", dir.display()), "");
+    assert!(
+        e.starts_with(
+            "a.pbrt:7:3: in the converted scene, light[0].color: `color` must not be negative"
+        ),
+        "{e}"
+    );
+}
