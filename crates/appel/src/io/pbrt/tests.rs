@@ -254,26 +254,29 @@ fn object_meshes_become_appel_instances() {
 fn validation_errors_point_at_the_directive() {
     use std::sync::atomic::{AtomicUsize, Ordering};
     static N: AtomicUsize = AtomicUsize::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "appel-pbrt-valid-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::Relaxed)
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("a.pbrt");
-    let text = format!(
-        "{CAMERA}WorldBegin\nShape \"sphere\"\nLightSource \"point\"\n  \"rgb I\" [ 1 -1 1 ]\n"
-    );
-    std::fs::write(&path, text).unwrap();
-    let e = crate::scene::load_description(&path)
-        .map(|_| ())
-        .unwrap_err()
-        .to_string();
-    let e = e.replace(&format!("{}/", dir.display()), "");
-    assert!(
-        e.starts_with(
-            "a.pbrt:7:3: in the converted scene, light[0].color: `color` must not be negative"
+    for (options, expected) in [
+        (
+            "Sampler \"halton\"\n  \"integer pixelsamples\" 100000\n",
+            "a.pbrt:5:3: in the converted scene, render.spp: `spp` must be between 1 and 65536, got 100000",
         ),
-        "{e}"
-    );
+        (
+            "Integrator \"path\"\n  \"integer maxdepth\" 5000\n",
+            "a.pbrt:5:3: in the converted scene, render.max_depth: `max_depth` must be between",
+        ),
+    ] {
+        let dir = std::env::temp_dir().join(format!(
+            "appel-pbrt-valid-{}-{}",
+            std::process::id(),
+            N.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.pbrt");
+        std::fs::write(&path, format!("{CAMERA}{options}WorldBegin\nShape \"sphere\"\n")).unwrap();
+        let e = crate::scene::load_description(&path)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        let e = e.replace(&format!("{}/", dir.display()), "");
+        assert!(e.starts_with(expected), "{e}");
+    }
 }
