@@ -14,6 +14,7 @@ pub mod ply;
 pub mod points;
 pub mod serialized;
 pub mod text;
+pub mod vertex_normals;
 
 pub use mesh_file::{
     is_mesh_file, load_mesh, mesh_source_exists, AlphaMode, FileCamera, FileImage, FileMaterial,

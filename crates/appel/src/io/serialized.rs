@@ -3,7 +3,10 @@
 //! name (version 4), the vertex and triangle counts (u64), positions, optional normals, uvs and
 //! colours (f32 or f64 by flag) and u32 index triples. A file may hold several meshes one after
 //! the other, with their offsets at its end; Appel reads the first, Mitsuba's default
-//! `shape_index`. Vertex colours are skipped, as Mitsuba skips them.
+//! `shape_index`. Vertex colours are skipped, as Mitsuba skips them. As in Mitsuba 3, a mesh
+//! without normals gets smooth ones, angle-weighted (see `vertex_normals`), and the file's
+//! face-normals flag is not read: the shape's `face_normals` parameter alone asks for the
+//! triangles' own normals (Mitsuba 0.6 honoured the flag; Mitsuba 3 does not).
 
 use super::mesh_file::{first_non_finite, LoadedMesh, MeshPart};
 use crate::error::{Error, Location, Result};
@@ -16,6 +19,8 @@ const MAGIC: u16 = 0x041C;
 const HAS_NORMALS: u32 = 0x0001;
 const HAS_UVS: u32 = 0x0002;
 const HAS_COLORS: u32 = 0x0008;
+/// Set by Mitsuba 0.6's writer for meshes meant to be shaded flat; Mitsuba 3 ignores it.
+#[cfg(test)]
 const FACE_NORMALS: u32 = 0x0010;
 const DOUBLE: u32 = 0x2000;
 
@@ -105,14 +110,12 @@ pub fn parse_serialized(bytes: &[u8], path: &Path) -> Result<LoadedMesh> {
     if let Some(i) = first_non_finite(&positions) {
         return Err(fail(format!("vertex {i} is not finite")));
     }
+    let normals =
+        normals.unwrap_or_else(|| super::vertex_normals::angle_weighted(&positions, &indices));
     let mesh = TriangleMesh {
         positions,
         indices,
-        normals: if flags & FACE_NORMALS != 0 {
-            None
-        } else {
-            normals
-        },
+        normals: Some(normals),
         uvs,
     };
     Ok(LoadedMesh {
@@ -178,8 +181,13 @@ mod tests {
 
     /// A version-4 file of one triangle with normals and uvs, in single or double precision.
     fn file(double: bool, extra: &[u8]) -> Vec<u8> {
-        let mut body = Vec::new();
         let flags = HAS_NORMALS | HAS_UVS | if double { DOUBLE } else { 0x1000 };
+        file_with(flags, extra)
+    }
+
+    fn file_with(flags: u32, extra: &[u8]) -> Vec<u8> {
+        let double = flags & DOUBLE != 0;
+        let mut body = Vec::new();
         body.extend(flags.to_le_bytes());
         body.extend(b"tri\0");
         body.extend(3u64.to_le_bytes());
@@ -194,13 +202,17 @@ mod tests {
         for v in [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 2.0, 0.0] {
             put(v);
         }
-        for _ in 0..3 {
-            for v in [0.0, 0.0, 3.0] {
-                put(v);
+        if flags & HAS_NORMALS != 0 {
+            for _ in 0..3 {
+                for v in [0.0, 3.0, 4.0] {
+                    put(v);
+                }
             }
         }
-        for v in [0.0, 0.0, 1.0, 0.0, 0.0, 1.0] {
-            put(v);
+        if flags & HAS_UVS != 0 {
+            for v in [0.0, 0.0, 1.0, 0.0, 0.0, 1.0] {
+                put(v);
+            }
         }
         for i in [0u32, 1, 2] {
             body.extend(i.to_le_bytes());
@@ -220,9 +232,28 @@ mod tests {
             let mesh = &m.parts[0].mesh;
             assert_eq!(mesh.positions[2], Vec3::new(0.0, 2.0, 0.0));
             assert_eq!(mesh.indices, vec![[0, 1, 2]]);
-            assert_eq!(mesh.normals.as_ref().unwrap()[1], Vec3::Z);
+            let n = mesh.normals.as_ref().unwrap()[1];
+            assert!((n - Vec3::new(0.0, 0.6, 0.8)).length() < 1e-6, "{n:?}");
             assert_eq!(mesh.uvs.as_ref().unwrap()[1], Vec2::new(1.0, 0.0));
         }
+    }
+
+    /// Mitsuba 3 computes smooth vertex normals where the file has none, and reads the file's
+    /// normals whatever its face-normals flag says.
+    #[test]
+    fn normals_are_computed_where_missing_and_the_face_normals_flag_is_ignored() {
+        let p = Path::new("t.serialized");
+        // The triangle (0,0,0), (1,0,0), (0,2,0) faces +z.
+        let m = parse_serialized(&file_with(0x1000, &[]), p).unwrap();
+        let mesh = &m.parts[0].mesh;
+        assert_eq!(mesh.normals.as_deref(), Some(&[Vec3::Z; 3][..]));
+        assert!(mesh.uvs.is_none());
+        // The file's normals, (0, 0.6, 0.8), not the triangle's.
+        let m = parse_serialized(&file_with(HAS_NORMALS | FACE_NORMALS | 0x1000, &[]), p).unwrap();
+        let normals = m.parts[0].mesh.normals.clone().unwrap();
+        assert!(normals
+            .iter()
+            .all(|n| (*n - Vec3::new(0.0, 0.6, 0.8)).length() < 1e-6));
     }
 
     #[test]

@@ -16,6 +16,7 @@ mod light;
 mod material;
 mod memory;
 mod mesh_shape;
+pub mod origins;
 pub mod parse;
 mod progress;
 mod sequence;
@@ -148,32 +149,40 @@ pub fn is_xml(path: &Path) -> bool {
 }
 
 /// Reads and validates a Mitsuba 3 scene file, with `-D name=value` parameters in `options`.
-/// Its file names come out absolute; problems only validation sees name the file and the
-/// description's key, as the converted description has no lines.
+/// Its file names come out absolute; problems only validation sees are reported at the line of
+/// the element (or parameter) that made the description's entry, with the entry's key.
 pub fn load_xml_description(
     path: &Path,
     options: &crate::io::mitsuba::XmlOptions,
 ) -> Result<LoadedDescription> {
-    let description = crate::io::mitsuba::load_xml(path, options)?;
+    let (description, origins) = crate::io::mitsuba::load_xml_with_origins(path, options)?;
     let base_dir = path
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_else(|| PathBuf::from("."));
-    let at_file = |invalid: validate::Invalid| {
-        let message = format!(
-            "in the converted scene, {}: {}",
-            path_string(&invalid.path),
-            invalid.message
-        );
-        Error::input(Location::file(path), message)
-    };
-    validate::validate(&description).map_err(at_file)?;
-    validate::files(&description, &base_dir).map_err(at_file)?;
+    let placed = |invalid: validate::Invalid| converted_error(&invalid, &origins, path);
+    validate::validate(&description).map_err(placed)?;
+    validate::files(&description, &base_dir).map_err(placed)?;
     Ok(LoadedDescription {
         description,
         base_dir,
         warnings: Vec::new(),
     })
+}
+
+/// A problem in a description converted from `path`: at the place `origins` recorded for it, or
+/// at the file where none was.
+fn converted_error(invalid: &validate::Invalid, origins: &origins::Origins, path: &Path) -> Error {
+    let location = origins
+        .locate(&invalid.path)
+        .cloned()
+        .unwrap_or_else(|| Location::file(path));
+    let message = format!(
+        "in the converted scene, {}: {}",
+        path_string(&invalid.path),
+        invalid.message
+    );
+    Error::input(location, message)
 }
 
 /// Reads and validates a pbrt-v4 scene file (see `io::pbrt` and docs/pbrt.md). Its file names
@@ -185,16 +194,9 @@ pub fn load_pbrt_description(path: &Path) -> Result<LoadedDescription> {
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_else(|| PathBuf::from("."));
-    let at_file = |invalid: validate::Invalid| {
-        let message = format!(
-            "in the converted scene, {}: {}",
-            path_string(&invalid.path),
-            invalid.message
-        );
-        Error::input(Location::file(path), message)
-    };
-    validate::validate(&scene.description).map_err(at_file)?;
-    validate::files(&scene.description, &base_dir).map_err(at_file)?;
+    let placed = |invalid: validate::Invalid| converted_error(&invalid, &scene.origins, path);
+    validate::validate(&scene.description).map_err(placed)?;
+    validate::files(&scene.description, &base_dir).map_err(placed)?;
     Ok(LoadedDescription {
         description: scene.description,
         base_dir,

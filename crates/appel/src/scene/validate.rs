@@ -2,11 +2,12 @@
 //! reported with the path of the offending value, which the loader turns into a line and column.
 
 use super::description::{
-    Description, InstanceDesc, KeyframeDesc, LightDesc, MaterialDesc, ShapeDesc, TextureDesc,
-    TextureNode, TransformDesc, Vec3f,
+    Description, InstanceDesc, IorDesc, KeyframeDesc, LightDesc, MaterialDesc, ShapeDesc,
+    TextureDesc, TextureNode, TransformDesc, Vec3f,
 };
 use super::parse::PathSeg;
 use crate::accel::AccelKind;
+use crate::shading::spectra;
 
 /// The largest image Appel agrees to render: the film holds about 40 bytes per pixel with AOVs, so
 /// this is 4 GB.
@@ -279,7 +280,23 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
         }
     }
     for (k, t) in m.textures() {
-        c.at(key(k), |c| texture(c, t))?;
+        texture(c, k, t)?;
+    }
+    for (k, ior) in m.iors() {
+        index_of_refraction(c, k, ior)?;
+    }
+    match m {
+        MaterialDesc::Conductor(x) => conductor(c, x.material.as_deref(), x.eta, x.k)?,
+        MaterialDesc::RoughConductor(x) => conductor(c, x.material.as_deref(), x.eta, x.k)?,
+        MaterialDesc::RoughPlastic(x) => {
+            // Its coating's albedo is precomputed for one roughness, as in Mitsuba.
+            for (k, a) in [("alpha", &x.alpha), ("alpha_u", &x.alpha_u)] {
+                if matches!(a, Some(TextureDesc::Rgb(_) | TextureDesc::Texture(_))) {
+                    return c.fail(k, format!("a rough plastic's `{k}` must be a number"));
+                }
+            }
+        }
+        _ => {}
     }
     if let MaterialDesc::Principled(p) = m {
         if p.eta.is_some() && p.specular.is_some() {
@@ -389,11 +406,61 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
     Ok(())
 }
 
-fn texture(c: &mut Checker, t: &TextureDesc) -> Check {
+/// A positive number, or a name Appel has an index of refraction for.
+fn index_of_refraction(c: &Checker, k: &str, ior: &IorDesc) -> Check {
+    match ior {
+        IorDesc::Value(v) if v.is_finite() && *v > 0.0 => Ok(()),
+        IorDesc::Value(v) => c.fail(
+            k,
+            format!("`{k}`, an index of refraction, must be positive, got {v}"),
+        ),
+        IorDesc::Named(n) if spectra::ior(n).is_some() => Ok(()),
+        IorDesc::Named(n) => c.fail(
+            k,
+            format!(
+                "unknown index of refraction `{n}`, expected a number or one of: {}",
+                spectra::IOR_NAMES.join(", ")
+            ),
+        ),
+    }
+}
+
+/// A metal's index: `eta` and `k` given, or taken from a metal Appel knows.
+fn conductor(c: &Checker, material: Option<&str>, eta: Option<Vec3f>, k: Option<Vec3f>) -> Check {
+    if let Some(eta) = eta {
+        c.finite("eta", &eta)?;
+    }
+    if let Some(k) = k {
+        c.non_negative("k", &k)?;
+    }
+    if eta.is_some() && k.is_some() {
+        return Ok(());
+    }
+    let name = material.unwrap_or(spectra::NO_CONDUCTOR);
+    if spectra::conductor(name).is_none() {
+        return c.fail(
+            "material",
+            format!(
+                "unknown conductor `{name}`, expected one of: {}",
+                spectra::CONDUCTOR_NAMES.join(", ")
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// The texture at key `k`: a number or colour not negative, or a texture node that makes sense.
+fn texture(c: &mut Checker, k: &str, t: &TextureDesc) -> Check {
     match t {
-        TextureDesc::Value(v) => c.non_negative("", &[*v]),
-        TextureDesc::Rgb(v) => c.non_negative("", v),
-        TextureDesc::Texture(TextureNode::Bitmap { file, to_uv, .. }) => {
+        TextureDesc::Value(v) => c.non_negative(k, &[*v]),
+        TextureDesc::Rgb(v) => c.non_negative(k, v),
+        TextureDesc::Texture(node) => c.at(key(k), |c| texture_node(c, node)),
+    }
+}
+
+fn texture_node(c: &mut Checker, t: &TextureNode) -> Check {
+    match t {
+        TextureNode::Bitmap { file, to_uv, .. } => {
             if file.is_empty() {
                 return c.fail("file", "`file` must name an image file");
             }
@@ -402,17 +469,17 @@ fn texture(c: &mut Checker, t: &TextureDesc) -> Check {
             }
             Ok(())
         }
-        TextureDesc::Texture(TextureNode::MeshAttribute { name }) => {
+        TextureNode::MeshAttribute { name } => {
             if name.is_empty() {
                 return c.fail("name", "`name` must name a mesh attribute");
             }
             Ok(())
         }
-        TextureDesc::Texture(TextureNode::Checkerboard {
+        TextureNode::Checkerboard {
             color0,
             color1,
             to_uv,
-        }) => {
+        } => {
             c.non_negative("color0", color0)?;
             c.non_negative("color1", color1)?;
             if let Some(m) = to_uv {
@@ -690,9 +757,7 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
         }
     }
     if let Some(e) = s.emitter() {
-        c.at(key("emitter"), |c| {
-            c.at(key("radiance"), |c| texture(c, &e.radiance))
-        })?;
+        c.at(key("emitter"), |c| texture(c, "radiance", &e.radiance))?;
     }
     Ok(())
 }

@@ -19,8 +19,9 @@ pub enum Located {
     File,
 }
 
-/// Errors that are about no one place: a fact of the whole file, or (Mitsuba XML) a problem that
-/// only the validation of the converted description finds, which names the description's key.
+/// Errors that may be about no one place: a fact of the whole file, or (Mitsuba XML) a problem
+/// that only the validation of the converted description finds in an entry no element made
+/// (such errors are at the element's line where one did), which names the description's key.
 pub const NOT_PLACED: &[&str] = &[
     "the mesh has no triangles",
     "the model cannot be viewed",

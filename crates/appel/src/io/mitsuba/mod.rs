@@ -15,7 +15,7 @@ mod xml;
 #[cfg(test)]
 mod tests;
 
-pub use convert::convert;
+pub use convert::{convert, convert_with_origins};
 pub use document::{Child, Document, Object, Property, Spectrum, Target, TextureArg, Value};
 pub use expand::{document_from_str, load_document};
 pub use resolver::FileResolver;
@@ -27,6 +27,15 @@ pub fn load_xml(
     options: &XmlOptions,
 ) -> crate::error::Result<crate::scene::Description> {
     convert(&load_document(path, options)?)
+}
+
+/// [`load_xml`], with where each entry of the description was written, to place the problems
+/// its validation finds.
+pub fn load_xml_with_origins(
+    path: &std::path::Path,
+    options: &XmlOptions,
+) -> crate::error::Result<(crate::scene::Description, crate::scene::origins::Origins)> {
+    convert_with_origins(&load_document(path, options)?)
 }
 
 /// How a scene file is read.

@@ -12,6 +12,7 @@
 
 use super::materials::Converted;
 use super::options::SceneOptions;
+use super::origins::Recorder;
 use super::parser::{Directive, Parser};
 use super::shapes::{Object, Placed};
 use super::tokenizer::Loc;
@@ -103,8 +104,11 @@ pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
         warnings: Vec::new(),
         names: 0,
     };
+    let mut recorder = Recorder::default();
     while let Some(d) = c.parser.directive()? {
+        let before = Recorder::counts(&c);
         c.directive(&d)?;
+        recorder.record(&d, &before, &c);
         let what = match d.strings.first() {
             Some(s) => format!("{} \"{s}\"", d.name),
             None => d.name.clone(),
@@ -137,6 +141,7 @@ pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
             animation: None,
         },
         warnings: c.warnings,
+        origins: recorder.origins,
     })
 }
 

@@ -9,6 +9,7 @@ mod convert;
 mod lights;
 mod materials;
 mod options;
+mod origins;
 mod params;
 mod parser;
 mod shapes;
@@ -28,6 +29,9 @@ use std::path::Path;
 pub struct PbrtScene {
     pub description: Description,
     pub warnings: Vec<String>,
+    /// Where each entry of the description was written, to place the problems its validation
+    /// finds.
+    pub origins: crate::scene::origins::Origins,
 }
 
 /// Reads a pbrt-v4 scene file (or `.pbrt.gz`); file names in the description are absolute.

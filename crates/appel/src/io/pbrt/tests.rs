@@ -247,3 +247,36 @@ fn object_meshes_become_appel_instances() {
     );
     crate::scene::validate::validate(d).unwrap();
 }
+
+/// Problems that only the validation of the converted description finds are reported at the
+/// line of the parameter that gave the value, or of the directive that made the entry.
+#[test]
+fn validation_errors_point_at_the_directive() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static N: AtomicUsize = AtomicUsize::new(0);
+    for (options, expected) in [
+        (
+            "Sampler \"halton\"\n  \"integer pixelsamples\" 100000\n",
+            "a.pbrt:5:3: in the converted scene, render.spp: `spp` must be between 1 and 65536, got 100000",
+        ),
+        (
+            "Integrator \"path\"\n  \"integer maxdepth\" 5000\n",
+            "a.pbrt:5:3: in the converted scene, render.max_depth: `max_depth` must be between",
+        ),
+    ] {
+        let dir = std::env::temp_dir().join(format!(
+            "appel-pbrt-valid-{}-{}",
+            std::process::id(),
+            N.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.pbrt");
+        std::fs::write(&path, format!("{CAMERA}{options}WorldBegin\nShape \"sphere\"\n")).unwrap();
+        let e = crate::scene::load_description(&path)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        let e = e.replace(&format!("{}/", dir.display()), "");
+        assert!(e.starts_with(expected), "{e}");
+    }
+}

@@ -163,6 +163,23 @@ impl MaterialDesc {
         };
         t.into_iter().flatten().collect()
     }
+
+    /// The indices of refraction of the interfaces the material has, with their keys.
+    pub fn iors(&self) -> Vec<(&'static str, &IorDesc)> {
+        match self {
+            MaterialDesc::Dielectric(d) | MaterialDesc::ThinDielectric(d) => {
+                vec![("int_ior", &d.int_ior), ("ext_ior", &d.ext_ior)]
+            }
+            MaterialDesc::RoughDielectric(d) => {
+                vec![("int_ior", &d.int_ior), ("ext_ior", &d.ext_ior)]
+            }
+            MaterialDesc::Plastic(p) => vec![("int_ior", &p.int_ior), ("ext_ior", &p.ext_ior)],
+            MaterialDesc::RoughPlastic(p) => {
+                vec![("int_ior", &p.int_ior), ("ext_ior", &p.ext_ior)]
+            }
+            _ => vec![],
+        }
+    }
 }
 
 /// Whitted's shading model; see [`MaterialDesc::Whitted`].

@@ -4,6 +4,7 @@
 use super::super::document::{Object, Spectrum, TextureArg};
 use super::super::spectrum::{pairs_to_rgb, SpectrumUse, UNIFORM_EMITTER_RGB};
 use super::super::transform::to_rows;
+use super::origin::origin_of;
 use super::Converter;
 use crate::error::Result;
 use crate::scene::description::{
@@ -12,6 +13,7 @@ use crate::scene::description::{
     RoughConductorDesc, RoughDielectricDesc, RoughPlasticDesc, TextureDesc, TextureFilter,
     TextureNode, TextureWrap, TwoSidedDesc,
 };
+use crate::scene::origins::key_path;
 use std::rc::Rc;
 
 const BSDFS: &str = "diffuse, conductor, roughconductor, dielectric, thindielectric, \
@@ -47,6 +49,8 @@ impl Converter<'_> {
         let desc = self.bsdf(b)?;
         b.finish()?;
         self.materials.insert(name.clone(), desc);
+        self.origins
+            .record(key_path(&[&"materials", &name]), origin_of(b));
         Ok(name)
     }
 

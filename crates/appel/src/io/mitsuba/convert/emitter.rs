@@ -5,9 +5,11 @@
 use super::super::document::Object;
 use super::super::spectrum::SpectrumUse;
 use super::bsdf::{constant_color, texture};
+use super::origin::origin_of;
 use super::{columns, f32s, fov_axis, rows_f32, Converter};
 use crate::error::Result;
 use crate::scene::description::{AreaEmitterDesc, LightDesc, TextureDesc, TransformDesc};
+use crate::scene::origins::key_path;
 use glam::DVec3;
 
 const EMITTERS: &str = "point, spot, projector, directional, constant, envmap (and area on shapes)";
@@ -121,6 +123,9 @@ impl Converter<'_> {
             }
         };
         e.finish()?;
+        let index = self.lights.len();
+        self.origins
+            .record(key_path(&[&"light", &index]), origin_of(e));
         self.lights.push(light);
         Ok(())
     }

@@ -5,6 +5,7 @@
 
 mod bsdf;
 mod emitter;
+mod origin;
 mod shape;
 
 #[cfg(test)]
@@ -17,13 +18,20 @@ use crate::scene::description::{
     CameraDesc, CameraKind, Description, FilterDesc, FovAxis, IntegratorName, MaterialDesc,
     RenderDesc, SamplerName,
 };
+use crate::scene::origins::{key_path, Origin, Origins};
 use glam::{DMat4, DVec3};
+use origin::origin_of;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
 /// The scene description a document stands for. File names in it are absolute.
 pub fn convert(doc: &Document) -> Result<Description> {
+    Ok(convert_with_origins(doc)?.0)
+}
+
+/// [`convert`], with where each entry of the description was written.
+pub fn convert_with_origins(doc: &Document) -> Result<(Description, Origins)> {
     let mut c = Converter {
         doc,
         materials: BTreeMap::new(),
@@ -33,8 +41,10 @@ pub fn convert(doc: &Document) -> Result<Description> {
         lights: Vec::new(),
         meshes: BTreeMap::new(),
         instances: Vec::new(),
+        origins: Origins::default(),
     };
-    c.scene()
+    let description = c.scene()?;
+    Ok((description, c.origins))
 }
 
 struct Converter<'d> {
@@ -48,6 +58,7 @@ struct Converter<'d> {
     lights: Vec<crate::scene::description::LightDesc>,
     meshes: BTreeMap<String, crate::scene::description::MeshDesc>,
     instances: Vec<crate::scene::description::InstanceDesc>,
+    origins: Origins,
 }
 
 impl Converter<'_> {
@@ -87,6 +98,8 @@ impl Converter<'_> {
         }
         root.finish()?;
         let sensor = sensor.ok_or_else(|| root.error("the scene has no <sensor>"))?;
+        let render_origin = origin_of(integrator.as_deref().unwrap_or(&root));
+        self.origins.record(key_path(&[&"render"]), render_origin);
         let mut render = match &integrator {
             Some(i) => integrator_desc(i)?,
             // Mitsuba renders a scene without an integrator with its default path tracer.
@@ -210,6 +223,24 @@ impl Converter<'_> {
             }
             s.take(child);
             *slot = Some(o);
+        }
+        let mut camera_origin = origin_of(s);
+        if let Some(f) = &film {
+            // The film's width and height are the camera's; its filter is the render's.
+            camera_origin.parts.extend(origin_of(f).parts);
+            self.origins
+                .record(key_path(&[&"render", &"filter"]), origin_of(f));
+        }
+        self.origins.record(key_path(&[&"camera"]), camera_origin);
+        if let Some(smp) = &sampler {
+            let o = origin_of(smp);
+            for key in ["spp", "seed"] {
+                if let Some(at) = o.part(key) {
+                    let at = Origin::at(at.clone());
+                    self.origins.record(key_path(&[&"render", &key]), at);
+                }
+            }
+            self.origins.record(key_path(&[&"render", &"sampler"]), o);
         }
         let (width, height) = match &film {
             Some(f) => film_desc(f, render)?,

@@ -4,12 +4,14 @@
 //! the composed transform: the same image, but they count as shapes, not instances, in AOVs.
 
 use super::super::document::{Object, Target};
+use super::origin::origin_of;
 use super::{columns, rows_f32, Converter, DEFAULT_MATERIAL};
 use crate::error::Result;
 use crate::scene::description::{
     BasicShapeDesc, CylinderDesc, InstanceDesc, MeshDesc, MeshShapeDesc, SdfGridDesc,
     SdfNormalsDesc, ShapeDesc, SphereDesc, TransformDesc,
 };
+use crate::scene::origins::key_path;
 use glam::{DMat4, DVec3};
 use std::rc::Rc;
 
@@ -34,9 +36,25 @@ impl Converter<'_> {
             "instance" => self.instance(s)?,
             _ => {
                 let desc = self.shape_desc(s, DMat4::IDENTITY)?;
-                self.shapes.push(desc);
+                self.push_shape(desc, s)?;
             }
         }
+        Ok(())
+    }
+
+    /// Adds a converted shape, recording where it and its area emitter were written.
+    fn push_shape(&mut self, desc: ShapeDesc, s: &Object) -> Result<()> {
+        let index = self.shapes.len();
+        self.origins
+            .record(key_path(&[&"shape", &index]), origin_of(s));
+        for child in s.unnamed_children() {
+            let o = self.doc.target(child)?;
+            if o.class == "emitter" {
+                let path = key_path(&[&"shape", &index, &"emitter"]);
+                self.origins.record(path, origin_of(&o));
+            }
+        }
+        self.shapes.push(desc);
         Ok(())
     }
 
@@ -225,6 +243,8 @@ impl Converter<'_> {
                     while self.meshes.contains_key(&name) {
                         name.push('_');
                     }
+                    self.origins
+                        .record(key_path(&[&"meshes", &name]), origin_of(&s));
                     self.meshes.insert(
                         name.clone(),
                         MeshDesc {
@@ -265,6 +285,9 @@ impl Converter<'_> {
         };
         let group = self.group(g)?;
         for (mesh, placed) in &group.meshes {
+            let index = self.instances.len();
+            self.origins
+                .record(key_path(&[&"instance", &index]), origin_of(i));
             self.instances.push(InstanceDesc {
                 mesh: mesh.clone(),
                 transform: Some(TransformDesc {
@@ -277,7 +300,7 @@ impl Converter<'_> {
         }
         for s in &group.others {
             let desc = self.shape_desc(s, to_world)?;
-            self.shapes.push(desc);
+            self.push_shape(desc, s)?;
         }
         i.finish()
     }

@@ -531,3 +531,73 @@ fn load_description_reads_xml_by_extension() {
         .to_string();
     assert!(e.starts_with(&format!("{}:3:", bad.display())), "{e}");
 }
+
+/// The error of loading `text` as `scene.xml` (converted and validated), with the folder's name
+/// taken off.
+fn load_err(text: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.xml");
+    std::fs::write(&path, text).unwrap();
+    let e = crate::scene::load_xml_description(&path, &XmlOptions::default())
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    e.replace(&format!("{}/", dir.path().display()), "")
+}
+
+/// Problems that only the validation of the converted description finds are reported at the
+/// line and column of the parameter that gave the value, or of the element that made the entry.
+#[test]
+fn validation_errors_point_at_the_xml_line() {
+    let scene = |body: &str| format!("<scene version=\"3.0.0\">{CAMERA}\n{body}\n</scene>");
+    for (body, expected) in [
+        (
+            "<shape type=\"sphere\">\n  <bsdf type=\"dielectric\">\n    <float name=\"int_ior\" value=\"-0\"/>\n  </bsdf>\n</shape>",
+            "scene.xml:4:5: in the converted scene, materials.dielectric.int_ior: `int_ior`, an index of refraction, must be positive, got -0",
+        ),
+        (
+            "<bsdf type=\"roughdielectric\" id=\"frosted\">\n  <string name=\"ext_ior\" value=\"unobtainium\"/>\n</bsdf>",
+            "scene.xml:3:3: in the converted scene, materials.frosted.ext_ior: unknown index of refraction `unobtainium`",
+        ),
+        (
+            "<shape type=\"sphere\">\n  <float name=\"radius\" value=\"-1\"/>\n</shape>",
+            "scene.xml:3:3: in the converted scene, shape[0].radius: `radius` must be a positive number, got -1",
+        ),
+        (
+            "<shape type=\"sphere\"/>\n<shape type=\"rectangle\">\n  <emitter type=\"area\">\n    <rgb name=\"radiance\" value=\"-1, 1, 1\"/>\n  </emitter>\n</shape>",
+            "scene.xml:5:5: in the converted scene, shape[1].emitter.radiance: `radiance` must not be negative",
+        ),
+        (
+            "<emitter type=\"point\">\n  <rgb name=\"intensity\" value=\"1, -1, 1\"/>\n</emitter>",
+            "scene.xml:3:3: in the converted scene, light[0].color: `color` must not be negative",
+        ),
+        (
+            "<bsdf type=\"conductor\">\n  <string name=\"material\" value=\"Xx\"/>\n</bsdf>",
+            "scene.xml:3:3: in the converted scene, materials.conductor.material: unknown conductor `Xx`",
+        ),
+        (
+            "<bsdf type=\"roughplastic\">\n  <texture type=\"checkerboard\" name=\"alpha\"/>\n</bsdf>",
+            "scene.xml:3:3: in the converted scene, materials.roughplastic.alpha: a rough plastic's `alpha` must be a number",
+        ),
+    ] {
+        let e = load_err(&scene(body));
+        assert!(e.starts_with(expected), "expected {expected}\n     got {e}");
+    }
+}
+
+/// The same check in a TOML scene is at the value's line.
+#[test]
+fn a_non_positive_index_of_refraction_is_an_error_at_its_line() {
+    let toml = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n\n[materials.glass]\ntype = \"dielectric\"\nint_ior = -0.0\n";
+    let e = crate::scene::description_from_str(
+        toml,
+        crate::scene::parse::Syntax::Toml,
+        Path::new("scene.toml"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.starts_with("scene.toml:7:11: materials.glass.int_ior: `int_ior`, an index of refraction, must be positive, got -0"),
+        "{e}"
+    );
+}
