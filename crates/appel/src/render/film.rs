@@ -64,17 +64,35 @@ impl Film {
     /// The film of a block of weighted sums: each pixel the weighted mean of its samples, with
     /// the variance of that mean; `aovs` in the block's row order.
     pub(crate) fn from_sums(sums: &FilmBlock, aovs: &[PixelAov]) -> Self {
-        debug_assert_eq!(sums.sums.len(), aovs.len());
+        Self::from_pixels(
+            sums.width,
+            sums.height,
+            sums.sums.iter().map(PixelSums::mean).collect(),
+            sums.sums.iter().map(PixelSums::variance_of_mean).collect(),
+            aovs,
+        )
+    }
+
+    /// The film of pixels whose means and variances are known; all in row order.
+    pub(crate) fn from_pixels(
+        width: u32,
+        height: u32,
+        rgb: Vec<Vec3>,
+        variance: Vec<Vec3>,
+        aovs: &[PixelAov],
+    ) -> Self {
+        debug_assert_eq!(rgb.len(), aovs.len());
+        debug_assert_eq!(variance.len(), aovs.len());
         Self {
-            width: sums.width,
-            height: sums.height,
-            rgb: sums.sums.iter().map(PixelSums::mean).collect(),
+            width,
+            height,
+            rgb,
             depth: aovs.iter().map(|a| a.depth).collect(),
             normal: aovs.iter().map(|a| a.normal).collect(),
             shape_id: aovs.iter().map(|a| a.shape_id).collect(),
             prim_id: aovs.iter().map(|a| a.prim_id).collect(),
             instance_id: aovs.iter().map(|a| a.instance_id).collect(),
-            variance: sums.sums.iter().map(PixelSums::variance_of_mean).collect(),
+            variance,
         }
     }
 

@@ -11,6 +11,7 @@ pub mod optics;
 pub mod path;
 pub mod render_loop;
 pub mod sampler;
+mod tile_film;
 mod whitted;
 mod window;
 
