@@ -8,6 +8,7 @@
 #[macro_use]
 mod tri_block;
 mod leaf;
+mod mt_block;
 mod node;
 mod packet;
 mod quad_block;
@@ -22,6 +23,7 @@ pub use quad_block::{QuadBlock, ID, PAIR, SWAP};
 pub use tri_block::TriBlock;
 
 use super::node::BvhNode;
+use mt_block::LaneTest;
 use crate::accel::Primitives;
 use crate::math::{Aabb, Vec3};
 use rayon::prelude::*;
@@ -32,6 +34,9 @@ pub struct WideBvh<const W: usize> {
     nodes: Vec<WideNode<W>>,
     /// The leaves' triangles; empty for compact leaves.
     blocks: Vec<TriBlock>,
+    /// What the triangle blocks hold: three vertices, or a vertex and two edges for
+    /// Moller-Trumbore triangles (`mt_block.rs`).
+    test: LaneTest,
     /// The leaves' pairs of triangles (leaves tagged [`node::QUADS`]), when the tree was built
     /// over pairs ([`Self::from_collapsed_paired`]).
     quads: Vec<QuadBlock>,
@@ -67,6 +72,7 @@ struct LeafRange {
 /// trees with more than 2^32 lanes; [`scatter`] is the usual way.
 fn gather<P: Primitives>(
     prims: &P,
+    test: LaneTest,
     leaves: &[LeafRange],
     indices: &[u32],
     blocks: &mut [TriBlock],
@@ -78,7 +84,7 @@ fn gather<P: Primitives>(
             let ids = &indices[l.first_index as usize..][..l.count as usize];
             let mut any_triangle = false;
             for (chunk, block) in ids.chunks(4).zip(run.iter_mut()) {
-                *block = TriBlock::gather(prims, chunk);
+                *block = TriBlock::gather(prims, test, chunk);
                 any_triangle |= block.has_triangle();
             }
             !any_triangle
@@ -93,6 +99,7 @@ fn gather<P: Primitives>(
 /// machine, so rough): the gather took 240-300 ms of a 650-980 ms build, this 37-46 ms.
 fn scatter<P: Primitives>(
     prims: &P,
+    test: LaneTest,
     leaves: &[LeafRange],
     indices: &[u32],
     blocks: &mut [TriBlock],
@@ -117,7 +124,7 @@ fn scatter<P: Primitives>(
         .enumerate()
         .with_min_len(4096)
         .for_each(|(id, &lane)| {
-            let tri = prims.watertight_triangle(id);
+            let tri = test.lane(prims, id);
             if tri.is_none() {
                 called_back.store(true, Relaxed);
             }
@@ -402,20 +409,26 @@ impl<const W: usize> WideBvh<W> {
     ) -> Self {
         let mut blocks: Vec<TriBlock> = Vec::new();
         let mut ids: Vec<[u32; 4]> = Vec::new();
+        // Compact leaves fetch watertight triangles only.
+        let test = if compact {
+            LaneTest::Watertight
+        } else {
+            LaneTest::of(prims)
+        };
         let no_triangles = if compact {
             ids = vec![[0; 4]; c.blocks];
             compact_ids(prims, &c.leaves, indices, &mut ids)
         } else if 4 * c.blocks <= u32::MAX as usize {
             blocks = bytemuck::zeroed_vec(c.blocks);
-            scatter(prims, &c.leaves, indices, &mut blocks)
+            scatter(prims, test, &c.leaves, indices, &mut blocks)
         } else {
             blocks = bytemuck::zeroed_vec(c.blocks);
-            gather(prims, &c.leaves, indices, &mut blocks)
+            gather(prims, test, &c.leaves, indices, &mut blocks)
         };
         for (l, _) in c.leaves.iter().zip(no_triangles).filter(|(_, none)| *none) {
             c.nodes[l.slot.0 as usize].child[l.slot.1 as usize] |= node::NO_TRIANGLES;
         }
-        Self::assemble(c, blocks, Vec::new(), ids)
+        Self::assemble(c, blocks, test, Vec::new(), ids)
     }
 
     /// Fills the leaves of a collapsed binary tree built over pair items (`indices` name entries
@@ -429,12 +442,13 @@ impl<const W: usize> WideBvh<W> {
         items: &[u32],
     ) -> Self {
         let (blocks, quads) = scatter_paired(prims, &c.leaves, indices, items, &mut c.nodes);
-        Self::assemble(c, blocks, quads, Vec::new())
+        Self::assemble(c, blocks, LaneTest::Watertight, quads, Vec::new())
     }
 
     fn assemble(
         c: Collapsed<W>,
         blocks: Vec<TriBlock>,
+        test: LaneTest,
         quads: Vec<QuadBlock>,
         ids: Vec<[u32; 4]>,
     ) -> Self {
@@ -448,6 +462,7 @@ impl<const W: usize> WideBvh<W> {
             prefetch: false,
             nodes: c.nodes,
             blocks,
+            test,
             quads,
             ids,
             depth: c.depth,
