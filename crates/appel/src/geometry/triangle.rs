@@ -15,6 +15,21 @@ pub enum TriangleTest {
 }
 
 impl TriangleTest {
+    /// The names `render.triangle` and `appel bench --triangle` take, in the order of [`Self::ALL`].
+    pub const NAMES: &'static [&'static str] = &["watertight", "moller"];
+    pub const ALL: [TriangleTest; 2] = [TriangleTest::Watertight, TriangleTest::Moller];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::NAMES
+            .iter()
+            .position(|&n| n == name)
+            .map(|i| Self::ALL[i])
+    }
+
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
     #[inline]
     pub fn intersect(self, ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<PrimHit> {
         match self {
@@ -330,6 +345,15 @@ mod tests {
     fn both(ray: &Ray, t_max: f32) -> [Option<PrimHit>; 2] {
         [TriangleTest::Watertight, TriangleTest::Moller]
             .map(|m| m.intersect(ray, t_max, TRI[0], TRI[1], TRI[2]))
+    }
+
+    #[test]
+    fn names_round_trip_and_watertight_is_the_default() {
+        for t in TriangleTest::ALL {
+            assert_eq!(TriangleTest::from_name(t.name()), Some(t));
+        }
+        assert_eq!(TriangleTest::from_name("moeller"), None);
+        assert_eq!(TriangleTest::default().name(), "watertight");
     }
 
     #[test]
