@@ -166,7 +166,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         for r in &p.rows {
             print_result(r, args.json)?;
             let tag = row_tag(r, tests.len());
-            notes.push(format!("{tag}: {}", memory_note(r)));
+            notes.push(memory_note(&tag, r));
             if let (Some(one), Some(all)) = (r.packet8_mrays_1t, r.packet8_mrays) {
                 notes.push(format!(
                     "{tag}: camera rays in packets of 8: {} / {} Mrays/s ({} of {} hits differ from single rays')",
@@ -204,7 +204,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
 }
 
 /// What the structure and its scene take once built, and the process's peak while it was built.
-fn memory_note(r: &BenchResult) -> String {
+fn memory_note(tag: &str, r: &BenchResult) -> String {
     let mb = |b: f64| b / 1e6;
     let total = (r.bytes + r.scene_bytes) as f64;
     let peak = r.build_peak_rss.map_or(String::new(), |p| {
@@ -215,8 +215,7 @@ fn memory_note(r: &BenchResult) -> String {
         )
     });
     format!(
-        "{}: memory {:.0} MB ({:.0} MB structure + {:.0} MB meshes and primitive list), {:.1} bytes per triangle{peak}",
-        r.accel,
+        "{tag}: memory {:.0} MB ({:.0} MB structure + {:.0} MB meshes and primitive list), {:.1} bytes per triangle{peak}",
         mb(total),
         mb(r.bytes as f64),
         mb(r.scene_bytes as f64),

@@ -335,7 +335,7 @@ mod tests {
                 // Infinite directions give NaN values, which are kept: not counted.
                 if ray.dir.is_finite() {
                     total += 1;
-                    kept += (mask >> k) & 1;
+                    kept += ((mask >> k) & 1) as usize;
                 }
                 for limit in [t_max, 0.8] {
                     let want = moller_trumbore(&ray, limit, t[0], t[1], t[2]);
