@@ -547,8 +547,22 @@ fn bench_embree_row_measures_embree_on_the_same_rays() {
     }
     let one = appel(
         &[
-            "bench", "uniform", "--triangles", "2000", "--size", "16x12", "--accel", "bvh",
-            "--builds", "1", "--runs", "1", "--embree", "--triangle", "moller", "--json",
+            "bench",
+            "uniform",
+            "--triangles",
+            "2000",
+            "--size",
+            "16x12",
+            "--accel",
+            "bvh",
+            "--builds",
+            "1",
+            "--runs",
+            "1",
+            "--embree",
+            "--triangle",
+            "moller",
+            "--json",
         ],
         dir.path(),
     );

@@ -23,9 +23,9 @@ pub use quad_block::{QuadBlock, ID, PAIR, SWAP};
 pub use tri_block::TriBlock;
 
 use super::node::BvhNode;
-use mt_block::LaneTest;
 use crate::accel::Primitives;
 use crate::math::{Aabb, Vec3};
+use mt_block::LaneTest;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
@@ -1104,13 +1104,19 @@ mod tests {
                             &moller,
                             &rays(300, 53),
                             |r, t, s| w.traverse_sized::<_, false, false>(&moller, r, t, s),
-                            |r, t, s| w.traverse_sized::<_, true, false>(&moller, r, t, s).is_some(),
+                            |r, t, s| {
+                                w.traverse_sized::<_, true, false>(&moller, r, t, s)
+                                    .is_some()
+                            },
                         );
                         agrees_with_brute(
                             &moller,
                             &rays(300, 54),
                             |r, t, s| w.traverse_deep::<_, false, false>(&moller, r, t, s),
-                            |r, t, s| w.traverse_deep::<_, true, false>(&moller, r, t, s).is_some(),
+                            |r, t, s| {
+                                w.traverse_deep::<_, true, false>(&moller, r, t, s)
+                                    .is_some()
+                            },
                         );
                     }
                     Wide::Binary => unreachable!(),

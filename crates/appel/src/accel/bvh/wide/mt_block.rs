@@ -207,8 +207,7 @@ pub(super) fn moller_candidates_scalar(
     let mut mask = 0;
     for lane in 0..4 {
         let row = |r: usize| Vec3::new(b.v[r][lane], b.v[r + 1][lane], b.v[r + 2][lane]);
-        let (det, u, v, t) =
-            crate::geometry::triangle::moller_values(ray, row(0), row(3), row(6));
+        let (det, u, v, t) = crate::geometry::triangle::moller_values(ray, row(0), row(3), row(6));
         let out_u = det == 0.0 || u < 0.0 || u > 1.0;
         let out_v = v < 0.0 || u + v > 1.0;
         let out_t = t <= 0.0 || t >= t_max;
@@ -370,7 +369,11 @@ mod tests {
     fn degenerate_triangles_get_zero_edges() {
         let [p, e1, e2] = moller_edges([Vec3::ZERO, Vec3::X, 2.0 * Vec3::X]);
         assert_eq!((p, e1, e2), (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO));
-        let t = [Vec3::ONE, Vec3::new(2.0, 1.0, 1.0), Vec3::new(1.0, 3.0, 1.0)];
+        let t = [
+            Vec3::ONE,
+            Vec3::new(2.0, 1.0, 1.0),
+            Vec3::new(1.0, 3.0, 1.0),
+        ];
         assert_eq!(moller_edges(t), [Vec3::ONE, Vec3::X, 2.0 * Vec3::Y]);
     }
 }

@@ -21,8 +21,8 @@ use crate::accel::{Hit, Primitives, TraversalStats};
 use crate::math::Ray;
 #[cfg(target_arch = "x86_64")]
 use {
-    super::node::{self, Child},
     super::mt_block::LaneTest,
+    super::node::{self, Child},
     super::traverse::{stack_need, BLOCKS, MOLLER, PAIRS},
     super::tri_block::RayTri,
     crate::accel::bvh::far_scale,

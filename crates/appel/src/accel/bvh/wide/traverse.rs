@@ -395,7 +395,8 @@ impl<const W: usize> WideBvh<W> {
             let step = if AVX && at + 1 < ids.len() { 2 } else { 1 };
             let n = (count - 4 * at).min(4 * step);
             for (b, lanes) in ids[at..at + step].iter().enumerate() {
-                buf[b] = TriBlock::gather(prims, LaneTest::Watertight, &lanes[..(n - 4 * b).min(4)]);
+                buf[b] =
+                    TriBlock::gather(prims, LaneTest::Watertight, &lanes[..(n - 4 * b).min(4)]);
             }
             #[cfg(target_arch = "x86_64")]
             let mut m = if step == 2 {
