@@ -18,9 +18,7 @@ pub struct BenchArgs {
     /// mesh file (framed as `appel render` frames it).
     #[arg(default_value = "teapot-in-stadium")]
     target: String,
-    /// Comma-separated acceleration structures to measure, of brute, grid, kdtree, bvh, octree
-    /// and bsp [default: brute,grid,kdtree,bvh; with --scene: the scene's own].
-    #[arg(long)]
+    #[arg(long, help = accel_help())]
     accel: Option<String>,
     /// Threads for the multi-threaded figures (default: all cores).
     #[arg(long)]
@@ -86,6 +84,15 @@ pub struct BenchArgs {
     /// The --heatmap picture; `{accel}` in the name is replaced by each structure's name.
     #[arg(short, long)]
     output: Option<std::path::PathBuf>,
+}
+
+/// `--accel`'s help, naming every registered structure.
+fn accel_help() -> String {
+    format!(
+        "Comma-separated acceleration structures to measure, of {} [default: brute,grid,kdtree,bvh; \
+         with --scene: the scene's own]",
+        AccelKind::NAMES.join(", ")
+    )
 }
 
 /// More threads than this is a typo, not a machine.

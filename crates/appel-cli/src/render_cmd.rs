@@ -38,7 +38,7 @@ pub struct RenderArgs {
     pub threads: Option<usize>,
     /// No progress bar.
     #[arg(short, long)]
-    quiet: bool,
+    pub quiet: bool,
     /// Print acceleration-structure statistics.
     #[arg(long)]
     stats: bool,

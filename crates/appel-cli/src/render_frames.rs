@@ -10,6 +10,8 @@ use appel::render::cost::CostImage;
 use appel::render::{render, RenderOptions};
 use appel::scene::animation::{check_pattern, frame_count, frame_file, is_pattern};
 use appel::scene::Sequence;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
 
 pub fn run(args: &RenderArgs, frames: &str, aovs: Aovs) -> Result<()> {
     let range = parse_frames(frames)?;
@@ -44,15 +46,36 @@ pub fn run(args: &RenderArgs, frames: &str, aovs: Aovs) -> Result<()> {
             }
         );
     }
+    let pixels = d.camera.width as u64 * d.camera.height as u64;
+    let bar = (!args.quiet && std::io::stderr().is_terminal())
+        .then(|| frames_bar(range.len() as u64 * pixels));
+    let say = |what: String| {
+        if let Some(b) = &bar {
+            b.set_message(what);
+        }
+    };
+    say(format!("frame {}: loading", range.start));
     let mut sequence = pool.install(|| Sequence::new(&d, &base_dir, range.start))?;
-    for frame in range {
+    for (done_frames, frame) in range.clone().enumerate() {
         let update = if frame == sequence.frame {
             None
         } else {
+            say(format!("frame {frame}: loading"));
             Some(pool.install(|| sequence.advance(frame))?)
         };
+        say(format!("frame {frame}"));
+        let before = done_frames as u64 * pixels;
+        let progress = |done: u64| {
+            if let Some(b) = &bar {
+                b.set_position(before + done);
+            }
+        };
+        let options = RenderOptions {
+            progress: Some(&progress),
+            ..Default::default()
+        };
         let scene = &sequence.scene;
-        let (film, stats) = pool.install(|| render(scene, &RenderOptions::default()))?;
+        let (film, stats) = pool.install(|| render(scene, &options))?;
         let path = std::path::PathBuf::from(frame_file(&output, frame));
         let cost = aovs.cost.then(|| pool.install(|| CostImage::of(scene)));
         write_image_with(&path, &film, aovs, cost.as_ref())?;
@@ -74,12 +97,34 @@ pub fn run(args: &RenderArgs, frames: &str, aovs: Aovs) -> Result<()> {
                     .unwrap_or_default()
             ),
         };
-        println!(
+        let line = format!(
             "{}: frame {frame} | {structures} | render {:.3}s | {:.2} Mrays/s",
             path.display(),
             stats.time.as_secs_f64(),
             stats.mrays_per_second()
         );
+        // Printed above the bar, which stays at the bottom of the terminal.
+        match &bar {
+            Some(b) => b.suspend(|| println!("{line}")),
+            None => println!("{line}"),
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
     }
     Ok(())
+}
+
+/// A bar over the pixels of all the frames, with the frame at work as its message.
+fn frames_bar(pixels: u64) -> ProgressBar {
+    let bar = ProgressBar::new(pixels);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} rendering [{bar:40}] {percent:>3}% {elapsed} (eta {eta}) {msg}",
+        )
+        .expect("static template")
+        .progress_chars("=> "),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar
 }

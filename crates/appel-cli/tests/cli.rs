@@ -141,7 +141,7 @@ fn bad_structure_parameters_are_rejected_at_their_line() {
     assert_rejected(
         "s.toml",
         &format!("{CAMERA}[render.bvh]\nsplit = \"octant\"\n"),
-        &["s.toml:5:9", "sah, midpoint, median"],
+        &["s.toml:5:9", "`sah`, `midpoint`, `median`"],
     );
     assert_rejected(
         "g.toml",
@@ -157,6 +157,36 @@ fn bad_structure_parameters_are_rejected_at_their_line() {
         "u.toml",
         &format!("{CAMERA}[render.bvh]\nleaves = 4\n"),
         &["u.toml:5:1", "unknown field `leaves`"],
+    );
+    assert_rejected(
+        "o.toml",
+        &format!("{CAMERA}[render.octree]\nmax_prims = 4\nmax_depth = 30\n"),
+        &["o.toml:6:13", "render.octree.max_depth", "between 0 and 24, got 30"],
+    );
+    assert_rejected(
+        "b.toml",
+        &format!("{CAMERA}[render]\naccel = \"bsp\"\n[render.bsp]\nbins = 100\n"),
+        &["b.toml:7:8", "render.bsp.bins", "between 0 and 64, got 100"],
+    );
+    assert_rejected(
+        "c.toml",
+        &format!("{CAMERA}[render.bsp]\nintersect_cost = -2.0\n"),
+        &["c.toml:5:18", "render.bsp.intersect_cost", "positive"],
+    );
+    assert_rejected(
+        "n.toml",
+        &format!("{CAMERA}[render.octree]\nmax_leaf = 4\n"),
+        &["n.toml:5:1", "unknown field `max_leaf`", "expected `max_prims` or `max_depth`"],
+    );
+    assert_rejected(
+        "d.toml",
+        &format!("{CAMERA}[render.kdtree]\nmax_depth = -3\n"),
+        &["d.toml:5:13", "invalid value: integer `-3`"],
+    );
+    assert_rejected(
+        "r.toml",
+        &format!("{CAMERA}[render.brute]\nleaf = 1\n"),
+        &["r.toml:5:1", "unknown field `leaf`"],
     );
 }
 

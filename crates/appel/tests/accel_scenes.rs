@@ -2,10 +2,10 @@
 //! normals and ids with every structure and BVH layout, and the scene file's `[render.bvh]`,
 //! `[render.grid]` and `[render.kdtree]` tables reach the structure that is built.
 
-use appel::accel::{Accel, AccelKind};
+use appel::accel::{Accel, AccelKind, BvhOptions, BvhSplit, GridOptions};
 use appel::render::{render, Film, RenderOptions};
 use appel::scene::builtin::builtin_scene;
-use appel::scene::description::{BvhDesc, Description, GridDesc};
+use appel::scene::description::Description;
 use appel::scene::parse::Syntax;
 use appel::scene::{description_from_str, Scene};
 use std::path::Path;
@@ -45,8 +45,8 @@ fn every_structure_renders_the_built_in_scenes_identically() {
         for width in [2, 4] {
             let mut v = d.clone();
             v.render.accel = "bvh".into();
-            v.render.bvh = Some(BvhDesc {
-                width: Some(width),
+            v.render.bvh = Some(BvhOptions {
+                width,
                 ..Default::default()
             });
             variants.push((format!("bvh width {width}"), v));
@@ -77,10 +77,10 @@ fn every_structure_renders_the_built_in_scenes_identically() {
 fn scene_tables_set_the_structure_parameters() {
     let mut d = builtin("glass-block", 8, 8);
     d.render.accel = "bvh".into();
-    d.render.bvh = Some(BvhDesc {
-        width: Some(4),
-        split: Some("median".into()),
-        max_leaf: Some(2),
+    d.render.bvh = Some(BvhOptions {
+        width: 4,
+        split: BvhSplit::Median,
+        max_leaf: 2,
         ..Default::default()
     });
     let scene = Scene::new(&d, Path::new(".")).unwrap();
@@ -89,16 +89,16 @@ fn scene_tables_set_the_structure_parameters() {
     };
     assert_eq!(b.width(), 4);
     assert_eq!(scene.settings.accel_options.bvh.max_leaf, 2);
-    assert_eq!(
-        scene.settings.accel_options.bvh.split,
-        appel::accel::BvhSplit::Median
-    );
+    assert_eq!(scene.settings.accel_options.bvh.split, BvhSplit::Median);
 
     // The grid's cell count follows `density`.
     let cells = |density: Option<f32>| {
         let mut d = builtin("glass-block", 8, 8);
         d.render.accel = AccelKind::Grid.name().into();
-        d.render.grid = Some(GridDesc { density });
+        d.render.grid = density.map(|density| GridOptions {
+            density,
+            ..Default::default()
+        });
         Scene::new(&d, Path::new(".")).unwrap().accel.stats().nodes
     };
     let (sparse, default, dense) = (cells(Some(1.0)), cells(None), cells(Some(200.0)));
@@ -120,8 +120,8 @@ fn camera_ray_packets_render_what_single_rays_render() {
         d.render.accel = "brute".into();
         let (want, _) = film(&d);
         d.render.accel = "bvh".into();
-        d.render.bvh = Some(BvhDesc {
-            max_leaf: Some(1),
+        d.render.bvh = Some(BvhOptions {
+            max_leaf: 1,
             ..Default::default()
         });
         let (got, scene) = film(&d);

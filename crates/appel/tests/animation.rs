@@ -107,3 +107,21 @@ fn structures_rebuilt_each_frame_give_the_frames_built_alone() {
     let alone = Scene::new(&at_frame(&d, 7), dir.path()).unwrap();
     assert!(bits(&image(&seq.scene)) == bits(&image(&alone)));
 }
+
+/// The first frame is a build: it reports every structure built from scratch (the flag's and the
+/// top level's; the bird is a declared mesh too) and the time the scene's build took, as
+/// `appel bench --frames --json` prints for frame 0.
+#[test]
+fn the_first_frame_reports_its_structures_built() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = cloth(dir.path(), |t| t);
+    let seq = Sequence::new(&d, dir.path(), 3).unwrap();
+    let u = &seq.first_build;
+    let declared = seq.scene.geometry.prototypes.len();
+    assert!(declared >= 1);
+    assert_eq!(u.frame, 3);
+    assert_eq!(u.rebuilt, declared + 1);
+    assert_eq!((u.refitted, u.rebuilt_by_policy, u.sah_drift), (0, 0, None));
+    assert_eq!(u.rebuild, seq.scene.timings.build);
+    assert!(u.rebuild > std::time::Duration::ZERO);
+}

@@ -2,12 +2,12 @@
 //! encoded as JPEG, PNG or raw RGBA. The binary message is a 16-byte header (`APF1`, width,
 //! height, format code, little-endian u32s) followed by the encoded image.
 
+use super::srgb8;
 use appel::math::Vec3;
-use appel::output::image::srgb_encode;
 use appel::render::{Film, MISS_ID};
-use image::codecs::jpeg::JpegEncoder;
 use image::codecs::png::{CompressionType, FilterType, PngEncoder};
 use image::{ExtendedColorType, ImageEncoder};
+use rayon::prelude::*;
 
 /// The AOV as 8-bit RGB, row-major. `rgb` is the accumulated radiance (the film's own for one
 /// pass); `cost` the per-pixel traversal work for the `cost` heat map.
@@ -55,9 +55,19 @@ pub fn to_rgb8(aov: &str, film: &Film, rgb: &[Vec3], cost: Option<&[u32]>) -> Ve
             out.resize(n * 3, 0);
         }
         _ => {
-            for c in rgb {
-                out.extend_from_slice(&[srgb_encode(c.x), srgb_encode(c.y), srgb_encode(c.z)]);
-            }
+            // Rows in parallel: the conversion is a few milliseconds of a frame's budget.
+            let table = srgb8::table();
+            out.resize(rgb.len() * 3, 0);
+            const CHUNK: usize = 4096;
+            out.par_chunks_mut(3 * CHUNK)
+                .zip(rgb.par_chunks(CHUNK))
+                .for_each(|(o, c)| {
+                    for (o, c) in o.chunks_exact_mut(3).zip(c) {
+                        o[0] = table.encode(c.x);
+                        o[1] = table.encode(c.y);
+                        o[2] = table.encode(c.z);
+                    }
+                });
         }
     }
     out
@@ -124,8 +134,16 @@ pub fn encode(rgb8: &[u8], width: u32, height: u32, format: u32) -> Vec<u8> {
                 out.extend_from_slice(&[p[0], p[1], p[2], 255]);
             }
         }
-        _ => JpegEncoder::new_with_quality(&mut out, 85)
-            .write_image(rgb8, width, height, ExtendedColorType::Rgb8)
+        // `jpeg-encoder` (SIMD colour conversion and DCT): about 5x faster than the `image`
+        // crate's encoder on a 640x480 frame (docs/performance.md). Sides are at most
+        // `messages::MAX_SIDE`, within its u16.
+        _ => jpeg_encoder::Encoder::new(&mut out, 85)
+            .encode(
+                rgb8,
+                width as u16,
+                height as u16,
+                jpeg_encoder::ColorType::Rgb,
+            )
             .expect("encoding to memory"),
     }
     out

@@ -38,9 +38,14 @@ pub struct SettingsMsg {
 pub enum ClientMsg {
     Camera(CameraMsg),
     Settings(SettingsMsg),
-    /// The page has drawn frame N: the server sends a frame only once the previous one is
-    /// drawn, so frames never queue up behind a slow page.
+    /// The page has drawn frame N: the server keeps at most two frames unacknowledged, so
+    /// frames never queue up behind a slow page.
     Ack(u64),
+    /// Play (true) or pause (false) an animated scene.
+    Play(bool),
+    /// Show frame N of an animated scene (checked against its length by the session, which
+    /// knows it).
+    Seek(u32),
 }
 
 pub const AOVS: &[&str] = &["color", "depth", "normal", "shapeid", "primid", "cost"];
@@ -92,6 +97,17 @@ pub fn parse(text: &str) -> Result<ClientMsg, String> {
             v.get("frame")
                 .and_then(Value::as_u64)
                 .ok_or("ack: expected a frame number")?,
+        )),
+        Some("play") => Ok(ClientMsg::Play(
+            v.get("playing")
+                .and_then(Value::as_bool)
+                .ok_or("play: expected \"playing\": true or false")?,
+        )),
+        Some("seek") => Ok(ClientMsg::Seek(
+            v.get("frame")
+                .and_then(Value::as_u64)
+                .and_then(|f| u32::try_from(f).ok())
+                .ok_or("seek: expected a frame number (a whole number from 0)")?,
         )),
         Some(t) => Err(format!("unknown message type `{t}`")),
         None => Err("missing \"type\"".into()),
@@ -195,6 +211,14 @@ mod tests {
             parse(r#"{"type":"ack","frame":7}"#).unwrap(),
             ClientMsg::Ack(7)
         );
+        assert_eq!(
+            parse(r#"{"type":"play","playing":false}"#).unwrap(),
+            ClientMsg::Play(false)
+        );
+        assert_eq!(
+            parse(r#"{"type":"seek","frame":12}"#).unwrap(),
+            ClientMsg::Seek(12)
+        );
     }
 
     #[test]
@@ -223,6 +247,11 @@ mod tests {
             (r#"{"type":"settings","spp":0}"#, "spp"),
             (r#"{"type":"settings","accel":"../../etc/passwd"}"#, "accel"),
             (r#"{"type":"ack"}"#, "frame"),
+            (r#"{"type":"play","playing":"yes"}"#, "playing"),
+            (r#"{"type":"seek","frame":-1}"#, "seek"),
+            (r#"{"type":"seek","frame":2.5}"#, "seek"),
+            (r#"{"type":"seek","frame":4294967296}"#, "seek"),
+            (r#"{"type":"seek"}"#, "seek"),
         ] {
             let e = parse(text).unwrap_err();
             assert!(e.contains(why), "{text}: {e}");

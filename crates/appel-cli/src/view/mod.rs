@@ -14,6 +14,8 @@ mod lecture_api;
 mod messages;
 mod server;
 mod session;
+mod srgb8;
+mod stage;
 
 use crate::scene_args::{load_scene, ParamArgs, ViewArgs as CameraArgs};
 use anyhow::{bail, Result};

@@ -1,4 +1,4 @@
-use super::{AccelStats, Hit, Primitives, TraversalStats};
+use super::{AccelStats, Hit, NoOptions, Primitives, Structure, TraversalStats};
 use crate::math::Ray;
 
 /// Exhaustive intersection: every ray tests every primitive. The reference the others are checked
@@ -54,9 +54,45 @@ impl Brute {
 
     pub fn stats(&self) -> AccelStats {
         AccelStats {
-            name: "brute",
+            name: Self::NAME,
             primitives: self.count,
             ..Default::default()
         }
+    }
+}
+
+impl Structure for Brute {
+    const NAME: &'static str = "brute";
+    type Options = NoOptions;
+
+    fn build<P: Primitives>(prims: &P, options: &NoOptions) -> Self {
+        let _ = options;
+        Brute::build(prims)
+    }
+
+    #[inline]
+    fn intersect<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        Brute::intersect(self, prims, ray, t_max, stats)
+    }
+
+    #[inline]
+    fn occluded<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        Brute::occluded(self, prims, ray, t_max, stats)
+    }
+
+    fn stats(&self) -> AccelStats {
+        Brute::stats(self)
     }
 }

@@ -6,13 +6,14 @@
 //! Akenine-Moller triangle/box test for triangles), that it really touches. Cells are stored in CSR
 //! form: `offsets[c]..offsets[c + 1]` is cell `c`'s range of the flat `items` list.
 
-use super::bvh::RayBox;
-use super::{test_primitive, AccelStats, Hit, Primitives, TraversalStats};
-use crate::math::{Aabb, Ray, Vec3};
+use super::{test_primitive, AccelStats, BadOption, Hit, Primitives, Structure, TraversalStats};
+use crate::math::{far_scale, Aabb, Ray, RayBox, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// `[render.grid]`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct GridOptions {
     /// Cells per primitive (Cleary & Wyvill 1988 and pbrt-v1 use a few per primitive; 27 = 3^3 means
     /// about 3 cells per primitive along each axis of a cubical scene).
@@ -214,7 +215,7 @@ impl Grid {
         let rb = RayBox::new(ray);
         let (t0, _) =
             self.bounds
-                .slab_intersect(ray, Vec3::from(rb.inv), t_max * super::bvh::far_scale())?;
+                .slab_intersect(ray, Vec3::from(rb.inv), t_max * far_scale())?;
         let p = ray.at(t0);
         let mut c: [u32; 3] = std::array::from_fn(|a| self.coord(p[a], a));
         // Per axis: the direction of stepping (0 for a zero component, which never steps), and the
@@ -319,7 +320,7 @@ impl Grid {
     pub fn stats(&self) -> AccelStats {
         let cells = self.offsets.len().saturating_sub(1);
         AccelStats {
-            name: "grid",
+            name: Self::NAME,
             primitives: self.primitives,
             bytes: (self.offsets.len() + self.items.len()) * std::mem::size_of::<u32>(),
             nodes: cells,
@@ -327,6 +328,55 @@ impl Grid {
             depth: 0,
             ..Default::default()
         }
+    }
+}
+
+
+impl Structure for Grid {
+    const NAME: &'static str = "grid";
+    type Options = GridOptions;
+
+    fn check_options(o: &GridOptions) -> Result<(), BadOption> {
+        if !(o.density.is_finite() && o.density > 0.0 && o.density <= 1e4) {
+            return Err(BadOption::new(
+                "density",
+                format!(
+                    "`density` (cells per primitive) must be in (0, 10000], got {}",
+                    o.density
+                ),
+            ));
+        }
+        BadOption::check_range("max_cells", o.max_cells, 1, 1 << 28)
+    }
+
+    fn build<P: Primitives>(prims: &P, options: &GridOptions) -> Self {
+        Grid::build_with(prims, *options)
+    }
+
+    #[inline]
+    fn intersect<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        Grid::intersect(self, prims, ray, t_max, stats)
+    }
+
+    #[inline]
+    fn occluded<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        Grid::occluded(self, prims, ray, t_max, stats)
+    }
+
+    fn stats(&self) -> AccelStats {
+        Grid::stats(self)
     }
 }
 

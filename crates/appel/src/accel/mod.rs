@@ -1,27 +1,29 @@
 //! Acceleration structures. Each builds over any [`Primitives`] (its builder sees only bounds and
 //! centroids) and answers closest-hit and any-hit queries by calling back to intersect one primitive.
-//! [`Accel`] is the enum the renderer holds: one match per ray, no dynamic dispatch per node.
+//! Every structure implements [`Structure`] and is listed once in `registry.rs`, from which
+//! [`AccelKind`], [`AccelOptions`] and [`Accel`] (the enum the renderer holds: one match per ray, no
+//! dynamic dispatch per node) are generated.
 
-mod brute;
-mod bsp;
-pub mod bvh;
-mod grid;
-mod kdtree;
 mod mailbox;
 mod mesh_prims;
-mod octree;
+mod registry;
 mod stats;
+mod structure;
 #[cfg(test)]
 pub(crate) mod testutil;
 
-pub use brute::Brute;
-pub use bsp::{Bsp, BspOptions};
-pub use bvh::{Bvh, BvhOptions, BvhSplit};
-pub use grid::{Grid, GridOptions};
-pub use kdtree::{KdNode, KdOptions, KdTree};
+pub use bsp::BspOptions;
+pub use bvh::{BvhOptions, BvhSplit};
+pub use grid::GridOptions;
+pub use kdtree::{KdNode, KdOptions};
 pub use mesh_prims::MeshPrimitives;
-pub use octree::{Octree, OctreeOptions};
+pub use octree::OctreeOptions;
+pub(crate) use registry::for_each_structure;
+use registry::define_structures;
 pub use stats::{AccelStats, TraversalStats};
+pub use structure::{BadOption, NoOptions, Structure};
+
+for_each_structure!(define_structures);
 
 use crate::geometry::PrimHit;
 use crate::math::{Aabb, Ray, Vec3};
@@ -215,172 +217,16 @@ impl Hit {
     }
 }
 
-/// The structures a user can choose by name (`render.accel`, `--accel`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum AccelKind {
-    Brute,
-    Grid,
-    KdTree,
-    #[default]
-    Bvh,
-    Octree,
-    Bsp,
-}
-
-impl AccelKind {
-    pub const NAMES: &'static [&'static str] = &["brute", "grid", "kdtree", "bvh", "octree", "bsp"];
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "brute" => Some(Self::Brute),
-            "grid" => Some(Self::Grid),
-            "kdtree" => Some(Self::KdTree),
-            "bvh" => Some(Self::Bvh),
-            "octree" => Some(Self::Octree),
-            "bsp" => Some(Self::Bsp),
-            _ => None,
-        }
+impl Default for AccelKind {
+    fn default() -> Self {
+        Self::Bvh
     }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Brute => "brute",
-            Self::Grid => "grid",
-            Self::KdTree => "kdtree",
-            Self::Bvh => "bvh",
-            Self::Octree => "octree",
-            Self::Bsp => "bsp",
-        }
-    }
-}
-
-/// Build parameters of every structure; [`Accel::build_with`] uses the ones of the kind it builds.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct AccelOptions {
-    pub bvh: BvhOptions,
-    pub grid: GridOptions,
-    pub kdtree: KdOptions,
-    pub octree: OctreeOptions,
-    pub bsp: BspOptions,
-}
-
-/// A built acceleration structure.
-#[derive(Clone, Debug)]
-pub enum Accel {
-    Brute(Brute),
-    Grid(Grid),
-    KdTree(KdTree),
-    Bvh(Bvh),
-    Octree(Octree),
-    Bsp(Bsp),
 }
 
 impl Accel {
+    /// A structure of `kind` with its default options.
     pub fn build<P: Primitives>(kind: AccelKind, prims: &P) -> Self {
         Self::build_with(kind, prims, &AccelOptions::default())
-    }
-
-    pub fn build_with<P: Primitives>(kind: AccelKind, prims: &P, o: &AccelOptions) -> Self {
-        match kind {
-            AccelKind::Brute => Accel::Brute(Brute::build(prims)),
-            AccelKind::Grid => Accel::Grid(Grid::build_with(prims, o.grid)),
-            AccelKind::KdTree => Accel::KdTree(KdTree::build_with(prims, o.kdtree)),
-            AccelKind::Bvh => Accel::Bvh(Bvh::build_with(prims, o.bvh)),
-            AccelKind::Octree => Accel::Octree(Octree::build_with(prims, o.octree)),
-            AccelKind::Bsp => Accel::Bsp(Bsp::build_with(prims, o.bsp)),
-        }
-    }
-
-    #[inline]
-    pub fn intersect<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> Option<Hit> {
-        match self {
-            Accel::Brute(a) => a.intersect(prims, ray, t_max, stats),
-            Accel::Grid(a) => a.intersect(prims, ray, t_max, stats),
-            Accel::KdTree(a) => a.intersect(prims, ray, t_max, stats),
-            Accel::Bvh(a) => a.intersect(prims, ray, t_max, stats),
-            Accel::Octree(a) => a.intersect(prims, ray, t_max, stats),
-            Accel::Bsp(a) => a.intersect(prims, ray, t_max, stats),
-        }
-    }
-
-    /// Whether [`Self::intersect_packet`] traces packets together (rather than ray by ray).
-    pub fn has_packets(&self) -> bool {
-        matches!(self, Accel::Bvh(b) if b.has_packets())
-    }
-
-    /// Closest hits of up to [`bvh::PACKET`] rays, `out[i]` for `rays[i]`: the hits of
-    /// [`Self::intersect`] on each ray. The 8-wide BVH traverses coherent packets together; other
-    /// structures go ray by ray.
-    pub fn intersect_packet<P: Primitives>(
-        &self,
-        prims: &P,
-        rays: &[Ray],
-        t_max: f32,
-        out: &mut [Option<Hit>],
-        stats: &mut TraversalStats,
-    ) {
-        match self {
-            Accel::Bvh(a) => a.intersect_packet(prims, rays, t_max, out, stats),
-            _ => {
-                for (ray, o) in rays.iter().zip(out.iter_mut()) {
-                    *o = self.intersect(prims, ray, t_max, stats);
-                }
-            }
-        }
-    }
-
-    #[inline]
-    pub fn occluded<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> bool {
-        match self {
-            Accel::Brute(a) => a.occluded(prims, ray, t_max, stats),
-            Accel::Grid(a) => a.occluded(prims, ray, t_max, stats),
-            Accel::KdTree(a) => a.occluded(prims, ray, t_max, stats),
-            Accel::Bvh(a) => a.occluded(prims, ray, t_max, stats),
-            Accel::Octree(a) => a.occluded(prims, ray, t_max, stats),
-            Accel::Bsp(a) => a.occluded(prims, ray, t_max, stats),
-        }
-    }
-
-    /// Refits the structure to `prims`, the primitives it was built over after they moved (same
-    /// count, same ids), and returns its SAH cost afterwards; `None` for structures that cannot be
-    /// refitted (only the BVH can: the others' cells and planes are fixed by the build) and must be
-    /// built again.
-    pub fn refit<P: Primitives>(&mut self, prims: &P) -> Option<f64> {
-        match self {
-            Accel::Bvh(b) => Some(b.refit(prims)),
-            _ => None,
-        }
-    }
-
-    /// The SAH cost of a refittable structure as it stands (see [`Bvh::current_sah_cost`]).
-    pub fn current_sah_cost(&self) -> Option<f64> {
-        match self {
-            Accel::Bvh(b) => Some(b.current_sah_cost()),
-            _ => None,
-        }
-    }
-
-    pub fn stats(&self) -> AccelStats {
-        match self {
-            Accel::Brute(a) => a.stats(),
-            Accel::Grid(a) => a.stats(),
-            Accel::KdTree(a) => a.stats(),
-            Accel::Bvh(a) => a.stats(),
-            Accel::Octree(a) => a.stats(),
-            Accel::Bsp(a) => a.stats(),
-        }
     }
 }
 

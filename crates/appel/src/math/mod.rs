@@ -4,12 +4,14 @@ mod aabb;
 mod f64x2;
 mod float;
 mod ray;
+mod ray_box;
 
 pub use aabb::Aabb;
 pub use f64x2::{F64x2, Lanes, Mask2};
 pub use float::{gamma, offset_ray_origin, offset_ray_origin_to_side};
 pub use glam::{Vec2, Vec3};
 pub use ray::{Ray, RayF64};
+pub use ray_box::{far_scale, RayBox};
 
 /// An orthonormal basis (`s`, `t`, `n`) around a unit vector `n` (Duff et al. 2017, "Building an
 /// orthonormal basis, revisited"): branch-free and continuous except at the sign flip of `n.z`.

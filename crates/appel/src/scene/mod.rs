@@ -39,7 +39,7 @@ pub use mesh_shape::FileExtras;
 pub use progress::{LoadStep, SceneOptions};
 pub use sequence::{FrameUpdate, Sequence, REBUILD_FACTOR};
 
-use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, BvhSplit, TraversalStats};
+use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, TraversalStats};
 use crate::error::{Error, Location, Result};
 use crate::geometry::{
     Cylinder, Implicit, ObjectTransform, Plane, SdfGrid, SdfNormals, Sphere, Torus, TriangleMesh,
@@ -64,33 +64,8 @@ pub struct RenderSettings {
     pub seed: u64,
     pub filter: description::FilterDesc,
     pub accel: AccelKind,
-    /// `[render.bvh]`, `[render.grid]`, `[render.kdtree]`.
+    /// `[render.NAME]` of each structure.
     pub accel_options: AccelOptions,
-}
-
-/// The structures' build parameters a (validated) `[render]` table sets.
-fn accel_options(r: &description::RenderDesc) -> AccelOptions {
-    let mut o = AccelOptions::default();
-    if let Some(b) = &r.bvh {
-        if let Some(split) = b.split.as_deref().and_then(BvhSplit::from_name) {
-            o.bvh.split = split;
-        }
-        o.bvh.width = b.width.map_or(o.bvh.width, |w| w as usize);
-        o.bvh.bins = b.bins.map_or(o.bvh.bins, |v| v as usize);
-        o.bvh.max_leaf = b.max_leaf.map_or(o.bvh.max_leaf, |v| v as usize);
-        o.bvh.leaf_size = o.bvh.leaf_size.min(o.bvh.max_leaf);
-        o.bvh.compact = b.compact.unwrap_or(o.bvh.compact);
-        o.bvh.pairs = b.pairs.unwrap_or(o.bvh.pairs);
-    }
-    if let Some(d) = r.grid.as_ref().and_then(|g| g.density) {
-        o.grid.density = d;
-    }
-    if let Some(k) = &r.kdtree {
-        o.kdtree.intersect_cost = k.intersect_cost.unwrap_or(o.kdtree.intersect_cost);
-        o.kdtree.empty_bonus = k.empty_bonus.unwrap_or(o.kdtree.empty_bonus);
-        o.kdtree.max_depth = k.max_depth.map(|d| d as usize).or(o.kdtree.max_depth);
-    }
-    o
 }
 
 /// How long building the scene took, phase by phase.
@@ -315,7 +290,7 @@ impl Scene {
                     d.render.accel
                 ))
             })?,
-            accel_options: accel_options(&d.render),
+            accel_options: d.render.accel_options(),
         };
         // What the declared meshes' structures are built as.
         let build_settings = RenderSettings {

@@ -36,6 +36,9 @@ pub struct Sequence {
     base_dir: PathBuf,
     pub scene: Scene,
     pub frame: u32,
+    /// What building the first frame did, in the terms [`Self::advance`] reports: its files
+    /// loaded and every structure (the top level and each declared mesh's) built from scratch.
+    pub first_build: FrameUpdate,
     /// SAH cost when last built of the top level (index 0) and of each declared mesh's structure,
     /// where the structure can be refitted.
     built_cost: Vec<Option<f64>>,
@@ -68,6 +71,14 @@ impl Sequence {
     pub fn new(d: &Description, base_dir: &Path, frame: u32) -> Result<Self> {
         check_frame(d, frame)?;
         let scene = Scene::new(&at_frame(d, frame), base_dir)?;
+        Self::from_scene(d, base_dir, frame, scene)
+    }
+
+    /// The sequence at `frame` from its scene already built from `at_frame(d, frame)` with its
+    /// structures (as `Scene::new` builds it), so that a caller holding that scene need not
+    /// build it again.
+    pub fn from_scene(d: &Description, base_dir: &Path, frame: u32, scene: Scene) -> Result<Self> {
+        check_frame(d, frame)?;
         let mut built_cost = vec![scene.accel.current_sah_cost()];
         built_cost.extend(
             scene
@@ -76,11 +87,19 @@ impl Sequence {
                 .iter()
                 .map(|p| p.accel.current_sah_cost()),
         );
+        let first_build = FrameUpdate {
+            frame,
+            load: scene.timings.load,
+            rebuild: scene.timings.build,
+            rebuilt: built_cost.len(),
+            ..Default::default()
+        };
         Ok(Self {
             description: d.clone(),
             base_dir: base_dir.to_path_buf(),
             scene,
             frame,
+            first_build,
             built_cost,
         })
     }

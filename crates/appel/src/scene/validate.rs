@@ -82,16 +82,6 @@ impl Checker {
         }
     }
 
-    fn in_range(&self, key: &str, v: Option<u32>, lo: u32, hi: u32) -> Check {
-        match v {
-            Some(v) if !(lo..=hi).contains(&v) => self.fail(
-                key,
-                format!("`{key}` must be between {lo} and {hi}, got {v}"),
-            ),
-            _ => Ok(()),
-        }
-    }
-
     fn one_of(&self, key: &str, value: &str, options: &[&str]) -> Check {
         if options.contains(&value) {
             Ok(())
@@ -524,44 +514,8 @@ fn render(c: &mut Checker, d: &Description) -> Check {
             format!("`spp` must be between 1 and {MAX_SPP}, got {}", r.spp),
         );
     }
-    if let Some(b) = &r.bvh {
-        c.at(key("bvh"), |c| {
-            if let Some(split) = &b.split {
-                c.one_of("split", split, crate::accel::BvhSplit::NAMES)?;
-            }
-            if let Some(w) = b.width {
-                if ![2, 4, 8].contains(&w) {
-                    return c.fail("width", format!("`width` must be 2, 4 or 8, got {w}"));
-                }
-            }
-            c.in_range("bins", b.bins, 2, 32)?;
-            c.in_range("max_leaf", b.max_leaf, 1, 255)
-        })?;
-    }
-    if let Some(g) = &r.grid {
-        c.at(key("grid"), |c| match g.density {
-            Some(d) if !(d.is_finite() && d > 0.0 && d <= 1e4) => c.fail(
-                "density",
-                format!("`density` (cells per primitive) must be in (0, 10000], got {d}"),
-            ),
-            _ => Ok(()),
-        })?;
-    }
-    if let Some(k) = &r.kdtree {
-        c.at(key("kdtree"), |c| {
-            if let Some(v) = k.intersect_cost {
-                c.positive("intersect_cost", v)?;
-            }
-            if let Some(v) = k.empty_bonus {
-                if !(0.0..=1.0).contains(&v) {
-                    return c.fail(
-                        "empty_bonus",
-                        format!("`empty_bonus` must be between 0 and 1, got {v}"),
-                    );
-                }
-            }
-            c.in_range("max_depth", k.max_depth, 1, 64)
-        })?;
+    if let Err((table, bad)) = r.check_accel_options() {
+        return c.at(key(table), |c| c.fail(bad.key, bad.message));
     }
     Ok(())
 }

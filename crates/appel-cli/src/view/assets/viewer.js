@@ -1,5 +1,6 @@
 // The viewer page: camera controls send the view to the server over a WebSocket; the server
-// answers with frames (previews while moving, then refined samples), each acknowledged once drawn.
+// answers with frames (previews while moving or while an animation plays, then refined samples),
+// each acknowledged once drawn.
 "use strict";
 (() => {
   const canvas = document.getElementById("view");
@@ -25,20 +26,24 @@
 
   ws.onopen = () => { $("status").textContent = "connected"; };
   ws.onclose = () => { $("status").textContent = "disconnected"; };
-  let pendingInfo = null;
-  ws.onmessage = async (ev) => {
+  // Each frame's info comes just before its image. Up to two frames are in flight, so infos
+  // wait in order for their images, and images are drawn in order (decoding is asynchronous).
+  const infos = [];
+  let drawing = Promise.resolve();
+  ws.onmessage = (ev) => {
     if (typeof ev.data === "string") {
       const m = JSON.parse(ev.data);
       if (m.type === "hello") hello(m);
       else if (m.type === "scene") sceneInfo(m);
-      else if (m.type === "frame") { pendingInfo = m; showInfo(m); }
+      else if (m.type === "frame") infos.push(m);
       else if (m.type === "error") { state.errors.push(m.message); $("status").textContent = "error: " + m.message; }
       return;
     }
-    await draw(ev.data);
+    const info = infos.shift();
+    drawing = drawing.then(() => draw(ev.data, info));
   };
 
-  async function draw(buf) {
+  async function draw(buf, info) {
     const head = new DataView(buf, 0, 16);
     const w = head.getUint32(4, true), h = head.getUint32(8, true), format = head.getUint32(12, true);
     const body = new Uint8Array(buf, 16);
@@ -57,8 +62,8 @@
     while (state.times.length && now - state.times[0] > 1000) state.times.shift();
     state.fps = state.times.length;
     $("s_fps").textContent = state.fps;
-    // The frame's info came just before its image: acknowledge it, now that it is drawn.
-    if (pendingInfo) { state.last = pendingInfo; send({ type: "ack", frame: pendingInfo.id }); pendingInfo = null; }
+    // Acknowledged once drawn: the server then may send another.
+    if (info) { state.last = info; showInfo(info); send({ type: "ack", frame: info.id }); }
   }
 
   function fill(id, names, value) {
@@ -81,6 +86,10 @@
     if (![...$("size").options].some((o) => o.value === size)) { const o = document.createElement("option"); o.textContent = size; $("size").appendChild(o); }
     $("size").value = size;
     canvas.width = m.width; canvas.height = m.height;
+    const animated = m.frames > 1;
+    $("animation").hidden = !animated;
+    for (const row of document.querySelectorAll("tr.anim")) row.hidden = !animated;
+    $("anim_frame").max = m.frames - 1;
   }
 
   const fmtBytes = (b) => b == null ? "-" : b > 1e6 ? (b / 1e6).toFixed(1) + " MB" : (b / 1e3).toFixed(1) + " kB";
@@ -97,7 +106,25 @@
     $("s_frame").textContent = `#${m.id} ${m.width}x${m.height}`;
     $("s_ms").textContent = m.render_ms.toFixed(1) + " / " + m.encode_ms.toFixed(1);
     $("s_bytes").textContent = fmtBytes(m.bytes);
+    if (state.hello && state.hello.frames > 1) {
+      $("s_anim").textContent = `${m.anim_frame} / ${state.hello.frames - 1}` + (m.playing ? " (playing)" : "");
+      if (document.activeElement !== $("anim_frame")) $("anim_frame").value = m.anim_frame;
+      $("play").textContent = m.playing ? "Pause" : "Play";
+      if (m.step) {
+        const s = m.step;
+        $("s_refit").textContent = `${s.refit_ms.toFixed(2)} ms (${s.refitted} refitted, ${s.rebuilt} rebuilt; load ${s.load_ms.toFixed(1)} ms)`;
+      }
+    }
   }
+
+  // Play and pause an animated scene; the slider shows a frame (and playing goes on from it).
+  state.playing = false;
+  $("play").addEventListener("click", () => {
+    state.playing = !state.playing;
+    $("play").textContent = state.playing ? "Pause" : "Play";
+    send({ type: "play", playing: state.playing });
+  });
+  $("anim_frame").addEventListener("input", () => send({ type: "seek", frame: Number($("anim_frame").value) }));
 
   for (const id of ["integrator", "preview", "accel", "aov", "format", "spp", "size", "preview_scale"]) {
     $(id).addEventListener("change", () => {

@@ -37,7 +37,7 @@ const DIRECTIONS: [[f32; 3]; 13] = [
 const EMPTY_MIN: f64 = 0.25;
 
 /// The most planes per direction a node of many primitives takes.
-const MAX_BINS: usize = 64;
+pub(super) const MAX_BINS: usize = 64;
 
 /// A plane `n . x = d` and its cost.
 #[derive(Clone, Copy, Debug)]

@@ -19,11 +19,13 @@ mod shape;
 mod tests;
 mod traverse;
 
-use super::{AccelStats, Hit, Primitives, TraversalStats};
+use super::{AccelStats, BadOption, Hit, Primitives, Structure, TraversalStats};
 use crate::math::{Aabb, Ray, Vec3};
 use build::Builder;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// `[render.bsp]`; costs are in units of `traversal_cost`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct BspOptions {
     /// A node step (a dot product pair and a division), the unit of the costs.
     pub traversal_cost: f32,
@@ -35,6 +37,7 @@ pub struct BspOptions {
     /// Nodes of this many primitives or fewer are leaves.
     pub max_prims: usize,
     /// `None`: `8 + 1.3 log2(N)`, pbrt's rule for kd-trees; at most [`MAX_DEPTH`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_depth: Option<usize>,
     /// Supporting planes of this many of a node's triangles, evenly spread through its list, are
     /// candidates (Fuchs et al.'s autopartition, sampled: every triangle's plane would cost
@@ -108,7 +111,7 @@ impl Bsp {
         let n = prims.count();
         let mut tree = Self {
             stats: AccelStats {
-                name: "bsp",
+                name: Self::NAME,
                 primitives: n,
                 ..Default::default()
             },
@@ -186,5 +189,52 @@ impl Bsp {
     /// Interior nodes whose plane is not perpendicular to an axis.
     pub fn oblique_planes(&self) -> usize {
         self.oblique
+    }
+}
+
+impl Structure for Bsp {
+    const NAME: &'static str = "bsp";
+    type Options = BspOptions;
+
+    fn check_options(o: &BspOptions) -> Result<(), BadOption> {
+        BadOption::check_positive("traversal_cost", o.traversal_cost)?;
+        BadOption::check_positive("intersect_cost", o.intersect_cost)?;
+        BadOption::check_non_negative("visit_cost", o.visit_cost)?;
+        BadOption::check_range("max_prims", o.max_prims, 1, 1 << 20)?;
+        if let Some(d) = o.max_depth {
+            BadOption::check_range("max_depth", d, 1, MAX_DEPTH)?;
+        }
+        BadOption::check_range("triangle_planes", o.triangle_planes, 0, 1024)?;
+        BadOption::check_range("bins", o.bins, 0, candidates::MAX_BINS)
+    }
+
+    fn build<P: Primitives>(prims: &P, options: &BspOptions) -> Self {
+        Bsp::build_with(prims, *options)
+    }
+
+    #[inline]
+    fn intersect<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        Bsp::intersect(self, prims, ray, t_max, stats)
+    }
+
+    #[inline]
+    fn occluded<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        Bsp::occluded(self, prims, ray, t_max, stats)
+    }
+
+    fn stats(&self) -> AccelStats {
+        Bsp::stats(self)
     }
 }

@@ -6,10 +6,9 @@
 //! walk.
 
 use super::{Bsp, INTERIOR, STACK};
-use crate::accel::bvh::far_scale;
 use crate::accel::mailbox::{test_items, Mailbox};
 use crate::accel::{Hit, Primitives, TraversalStats};
-use crate::math::{Ray, Vec3};
+use crate::math::{far_scale, Ray, Vec3};
 
 impl Bsp {
     #[inline(always)]

@@ -15,7 +15,8 @@ use glam::Vec4;
 use rayon::prelude::*;
 
 /// How an interior node chooses its split.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum BvhSplit {
     /// Binned surface area heuristic (Goldsmith & Salmon 1987, MacDonald & Booth 1990).
     #[default]
@@ -48,8 +49,10 @@ impl BvhSplit {
 }
 
 /// Build parameters. The SAH cost of a node is `traversal_cost + intersect_cost * (n_l * A_l + n_r *
-/// A_r) / A` against `intersect_cost * n` for making it a leaf.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A_r) / A` against `intersect_cost * n` for making it a leaf. `[render.bvh]` sets all but `block`
+/// and `parallel_threshold`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct BvhOptions {
     pub split: BvhSplit,
     /// Children per node: 2 (the binary tree as built), or 4 or 8 (collapsed, SIMD slab tests and
@@ -67,8 +70,10 @@ pub struct BvhOptions {
     /// Primitives tested together (the SAH counts a leaf of `n` as `ceil(n / block)` tests), a power
     /// of two (others are rounded up): 4 for the wide layouts, whose leaves test triangles four at a
     /// time; 0 means 4 when `width > 2` and 1 otherwise.
+    #[serde(skip)]
     pub block: usize,
     /// Ranges larger than this build their two children in parallel.
+    #[serde(skip)]
     pub parallel_threshold: usize,
     /// Wide layouts only: leaves keep their primitives' ids (4 bytes each) instead of their
     /// triangles' vertices (40 bytes each), which traversal fetches through `Primitives` at

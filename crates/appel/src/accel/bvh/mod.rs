@@ -11,10 +11,9 @@ mod wide;
 
 pub use build::{BvhOptions, BvhSplit};
 pub use node::BvhNode;
-pub(crate) use traverse::{far_scale, RayBox};
 pub use wide::{QuadBlock, TriBlock, WideBvh, WideNode, PACKET};
 
-use super::{AccelStats, Hit, Primitives, TraversalStats};
+use super::{AccelStats, BadOption, Hit, Primitives, Structure, TraversalStats};
 #[cfg(test)]
 use crate::math::Vec3;
 use crate::math::{Aabb, Ray};
@@ -183,7 +182,7 @@ impl Bvh {
         }
         self.depth = depth;
         self.stats = AccelStats {
-            name: "bvh",
+            name: Self::NAME,
             primitives: self.indices.len(),
             build_time: Default::default(),
             bytes: self.nodes.len() * std::mem::size_of::<BvhNode>()
@@ -255,6 +254,84 @@ impl Bvh {
 
     pub fn stats(&self) -> AccelStats {
         self.stats.clone()
+    }
+}
+
+
+impl Structure for Bvh {
+    const NAME: &'static str = "bvh";
+    type Options = BvhOptions;
+
+    fn check_options(o: &BvhOptions) -> Result<(), BadOption> {
+        if ![2, 4, 8].contains(&o.width) {
+            return Err(BadOption::new(
+                "width",
+                format!("`width` must be 2, 4 or 8, got {}", o.width),
+            ));
+        }
+        BadOption::check_range("bins", o.bins, 2, 32)?;
+        BadOption::check_range("max_leaf", o.max_leaf, 1, 255)?;
+        BadOption::check_range("leaf_size", o.leaf_size, 1, 255)?;
+        BadOption::check_positive("traversal_cost", o.traversal_cost)?;
+        BadOption::check_positive("intersect_cost", o.intersect_cost)
+    }
+
+    fn build<P: Primitives>(prims: &P, options: &BvhOptions) -> Self {
+        // A file's `max_leaf` bounds the leaves of every split, midpoint and median too.
+        let options = BvhOptions {
+            leaf_size: options.leaf_size.min(options.max_leaf),
+            ..*options
+        };
+        Bvh::build_with(prims, options)
+    }
+
+    #[inline]
+    fn intersect<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        Bvh::intersect(self, prims, ray, t_max, stats)
+    }
+
+    #[inline]
+    fn occluded<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        Bvh::occluded(self, prims, ray, t_max, stats)
+    }
+
+    fn stats(&self) -> AccelStats {
+        Bvh::stats(self)
+    }
+
+    fn has_packets(&self) -> bool {
+        Bvh::has_packets(self)
+    }
+
+    fn intersect_packet<P: Primitives>(
+        &self,
+        prims: &P,
+        rays: &[Ray],
+        t_max: f32,
+        out: &mut [Option<Hit>],
+        stats: &mut TraversalStats,
+    ) {
+        Bvh::intersect_packet(self, prims, rays, t_max, out, stats)
+    }
+
+    fn refit<P: Primitives>(&mut self, prims: &P) -> Option<f64> {
+        Some(Bvh::refit(self, prims))
+    }
+
+    fn current_sah_cost(&self) -> Option<f64> {
+        Some(Bvh::current_sah_cost(self))
     }
 }
 

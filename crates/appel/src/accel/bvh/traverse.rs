@@ -3,59 +3,7 @@
 use super::node::BvhNode;
 use super::Bvh;
 use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
-use crate::math::{gamma, Ray};
-
-/// A ray prepared for box tests: reciprocal direction and the sign of each component (the sign bit,
-/// so that `-0` counts as negative and gets `1 / -0 = -inf`).
-#[derive(Clone, Copy)]
-pub(crate) struct RayBox {
-    pub o: [f32; 3],
-    pub inv: [f32; 3],
-    pub neg: [bool; 3],
-}
-
-/// `1 + 2 gamma(3)`: scaling the far slab distance by this keeps the slab test conservative under
-/// rounding (pbrt-v4 section 6.8.2, after Ize 2013, "Robust BVH ray traversal").
-#[inline]
-pub(crate) fn far_scale() -> f32 {
-    1.0 + 2.0 * gamma(3)
-}
-
-impl RayBox {
-    #[inline]
-    pub fn new(ray: &Ray) -> Self {
-        let inv = ray.dir.recip();
-        Self {
-            o: ray.origin.into(),
-            inv: inv.into(),
-            neg: [
-                ray.dir.x.is_sign_negative(),
-                ray.dir.y.is_sign_negative(),
-                ray.dir.z.is_sign_negative(),
-            ],
-        }
-    }
-
-    /// Slab test against `[min, max]` clipped to `[0, t_max]`. A zero direction component gives an
-    /// infinite `inv`: the slab distances are then `+-inf` (outside or inside the slab), or NaN when the
-    /// origin lies exactly on the slab's plane; `f32::max`/`min` ignore a NaN, which counts such a ray
-    /// as inside, like [`crate::math::Aabb::slab_intersect`].
-    #[inline(always)]
-    pub fn hits(&self, min: &[f32; 3], max: &[f32; 3], t_max: f32, far: f32) -> bool {
-        let mut t0 = 0.0f32;
-        let mut t1 = t_max;
-        for a in 0..3 {
-            let (lo, hi) = if self.neg[a] {
-                (max[a], min[a])
-            } else {
-                (min[a], max[a])
-            };
-            t0 = t0.max((lo - self.o[a]) * self.inv[a]);
-            t1 = t1.min((hi - self.o[a]) * self.inv[a] * far);
-        }
-        t0 <= t1
-    }
-}
+use crate::math::{far_scale, Ray, RayBox};
 
 impl Bvh {
     /// Dispatches on the tree depth to a traversal with a stack just large enough.

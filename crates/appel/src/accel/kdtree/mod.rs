@@ -25,13 +25,15 @@ mod wide;
 pub use node::KdNode;
 pub use wide::KdNode8;
 
-use super::{AccelStats, Hit, Primitives, TraversalStats};
+use super::{AccelStats, BadOption, Hit, Primitives, Structure, TraversalStats};
 use crate::math::{Aabb, Ray};
 use build::Builder;
 use leaf::KdBlock;
 use rayon::prelude::*;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// `[render.kdtree]`; costs are in units of a node step.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct KdOptions {
     /// A node step: the cost of a split on the first of a three-level node's levels.
     pub traversal_cost: f32,
@@ -47,7 +49,8 @@ pub struct KdOptions {
     pub empty_bonus: f32,
     /// Leaves stop splitting at this many primitives.
     pub max_prims: usize,
-    /// `None`: `8 + 1.3 log2(N)`, pbrt's rule of thumb.
+    /// `None`: `8 + 1.3 log2(N)`, pbrt's rule of thumb; at most `STACK - 1`.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_depth: Option<usize>,
     /// A node becomes a leaf when it would be the `max_bad`-th split on its path that does not
     /// lower the SAH cost (pbrt: 3; here 1, the first).
@@ -132,7 +135,7 @@ impl KdTree {
         };
         if ids.is_empty() {
             tree.stats = AccelStats {
-                name: "kdtree",
+                name: Self::NAME,
                 primitives: n,
                 ..Default::default()
             };
@@ -161,7 +164,7 @@ impl KdTree {
         let mut nodes = Vec::new();
         tree.root = wide::collapse(&b.nodes, &mut nodes);
         tree.stats = AccelStats {
-            name: "kdtree",
+            name: Self::NAME,
             primitives: n,
             bytes: nodes.len() * std::mem::size_of::<KdNode8>()
                 + b.blocks.len() * std::mem::size_of::<KdBlock>(),
@@ -203,5 +206,53 @@ impl KdTree {
 
     pub fn stats(&self) -> AccelStats {
         self.stats.clone()
+    }
+}
+
+impl Structure for KdTree {
+    const NAME: &'static str = "kdtree";
+    type Options = KdOptions;
+
+    fn check_options(o: &KdOptions) -> Result<(), BadOption> {
+        BadOption::check_positive("traversal_cost", o.traversal_cost)?;
+        BadOption::check_non_negative("inner_cost", o.inner_cost)?;
+        BadOption::check_non_negative("visit_cost", o.visit_cost)?;
+        BadOption::check_positive("intersect_cost", o.intersect_cost)?;
+        BadOption::check_range("empty_bonus", o.empty_bonus, 0.0, 1.0)?;
+        BadOption::check_range("max_prims", o.max_prims, 1, 1 << 20)?;
+        if let Some(d) = o.max_depth {
+            BadOption::check_range("max_depth", d, 1, STACK - 1)?;
+        }
+        BadOption::check_range("max_bad", o.max_bad, 1, 64)
+    }
+
+    fn build<P: Primitives>(prims: &P, options: &KdOptions) -> Self {
+        KdTree::build_with(prims, *options)
+    }
+
+    #[inline]
+    fn intersect<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        KdTree::intersect(self, prims, ray, t_max, stats)
+    }
+
+    #[inline]
+    fn occluded<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        KdTree::occluded(self, prims, ray, t_max, stats)
+    }
+
+    fn stats(&self) -> AccelStats {
+        KdTree::stats(self)
     }
 }

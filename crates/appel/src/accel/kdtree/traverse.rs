@@ -14,9 +14,8 @@ use super::leaf::LeafRay8;
 use super::leaf::{self, KdBlock, LeafRay, LANES};
 use super::wide::{self, Cell, RayPlanes};
 use super::{KdNode8, KdTree, WIDE_STACK};
-use crate::accel::bvh::{far_scale, RayBox};
 use crate::accel::{Hit, Primitives, TraversalStats};
-use crate::math::{Ray, Vec3};
+use crate::math::{far_scale, Ray, RayBox, Vec3};
 use std::mem::MaybeUninit;
 
 /// Direct-mapped per-ray mailbox (Amanatides & Woo 1987 mark primitives with a ray id; a per-ray

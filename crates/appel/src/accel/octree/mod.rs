@@ -15,12 +15,14 @@ mod build;
 mod tests;
 mod traverse;
 
-use super::{AccelStats, Hit, Primitives, TraversalStats};
+use super::{AccelStats, BadOption, Hit, Primitives, Structure, TraversalStats};
 use crate::math::{Aabb, Ray, Vec3};
 use build::Builder;
 use rayon::prelude::*;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// `[render.octree]`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize, serde::Serialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct OctreeOptions {
     /// A cell listing more primitives than this splits into eight. 8: a leaf's primitives are
     /// tested one by one (scalar), and eight tests cost about as much as the node steps a further
@@ -83,7 +85,7 @@ impl Octree {
             .collect();
         let mut tree = Self {
             stats: AccelStats {
-                name: "octree",
+                name: Self::NAME,
                 primitives: n,
                 ..Default::default()
             },
@@ -173,4 +175,44 @@ pub(crate) fn child_box(b: &Aabb, k: usize) -> Aabb {
         }
     }
     r
+}
+
+impl Structure for Octree {
+    const NAME: &'static str = "octree";
+    type Options = OctreeOptions;
+
+    fn check_options(o: &OctreeOptions) -> Result<(), BadOption> {
+        BadOption::check_range("max_prims", o.max_prims, 1, 1 << 20)?;
+        BadOption::check_range("max_depth", o.max_depth, 0, MAX_DEPTH)
+    }
+
+    fn build<P: Primitives>(prims: &P, options: &OctreeOptions) -> Self {
+        Octree::build_with(prims, *options)
+    }
+
+    #[inline]
+    fn intersect<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> Option<Hit> {
+        Octree::intersect(self, prims, ray, t_max, stats)
+    }
+
+    #[inline]
+    fn occluded<P: Primitives>(
+        &self,
+        prims: &P,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut TraversalStats,
+    ) -> bool {
+        Octree::occluded(self, prims, ray, t_max, stats)
+    }
+
+    fn stats(&self) -> AccelStats {
+        Octree::stats(self)
+    }
 }

@@ -10,10 +10,9 @@
 //! (the eight children share a cache line, so looking is cheap).
 
 use super::{child_box, Octree, INTERIOR, STACK};
-use crate::accel::bvh::{far_scale, RayBox};
 use crate::accel::mailbox::{test_items, Mailbox};
 use crate::accel::{Hit, Primitives, TraversalStats};
-use crate::math::{Aabb, Ray, Vec3};
+use crate::math::{far_scale, Aabb, Ray, RayBox, Vec3};
 use std::mem::MaybeUninit;
 
 /// A cell waiting to be visited, with the ray's interval in it.

@@ -128,44 +128,6 @@ pub struct CameraDesc {
     pub height: u32,
 }
 
-/// `[render.bvh]`; absent keys take the defaults of `accel::BvhOptions`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct BvhDesc {
-    /// "sah" (binned surface area heuristic), "midpoint" or "median".
-    pub split: Option<String>,
-    /// Children per node: 2, 4 or 8.
-    pub width: Option<u32>,
-    /// SAH bins per axis, 2 to 32.
-    pub bins: Option<u32>,
-    /// The most primitives a leaf may hold, 1 to 255.
-    pub max_leaf: Option<u32>,
-    /// Widths 4 and 8: leaves hold primitive ids only, not vertices (less memory, slower rays).
-    pub compact: Option<bool>,
-    /// Widths 4 and 8: build over pairs of triangles sharing an edge where a mesh is made of quads.
-    pub pairs: Option<bool>,
-}
-
-/// `[render.grid]`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct GridDesc {
-    /// Cells per primitive (27 by default).
-    pub density: Option<f32>,
-}
-
-/// `[render.kdtree]`.
-#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct KdTreeDesc {
-    /// Cost of a primitive test relative to a traversal step (80 by default).
-    pub intersect_cost: Option<f32>,
-    /// Fraction of the cost saved by a split with an empty side, 0 to 1 (0.5 by default).
-    pub empty_bonus: Option<f32>,
-    /// Deepest level; by default `8 + 1.3 log2(N)`.
-    pub max_depth: Option<u32>,
-}
-
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct EnvironmentDesc {

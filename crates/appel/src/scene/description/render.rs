@@ -1,70 +1,93 @@
 //! `[render]` and the camera's closed sets of names: every name here is a serde enum, so an
 //! unknown one is a parse error at its line.
 
+use crate::accel::{AccelOptions, BadOption, Structure};
 use serde::{Deserialize, Serialize};
 
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct RenderDesc {
-    #[serde(default)]
-    pub integrator: IntegratorName,
-    /// Whitted: the deepest recursion. Path and direct: Mitsuba's meaning, the most vertices of a
-    /// path (1: emitters seen directly; 2: direct light; -1: unlimited).
-    #[serde(default = "default_max_depth")]
-    pub max_depth: i32,
-    /// Path: the depth from which Russian roulette may end paths (Mitsuba's `rr_depth`).
-    #[serde(default = "default_rr_depth")]
-    pub rr_depth: u32,
-    /// Path and direct: emitters seen directly by the camera are black.
-    #[serde(default)]
-    pub hide_emitters: bool,
-    #[serde(default = "default_accel")]
-    pub accel: String,
-    /// Samples per pixel. Raycast and Whitted: 1 means exactly the pixel centre.
-    #[serde(default = "default_spp")]
-    pub spp: u32,
-    /// How samples are drawn; unset, the integrator's own choice ([`IntegratorName::sampler`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sampler: Option<SamplerName>,
-    /// Another seed gives another (equally valid) noise pattern.
-    #[serde(default)]
-    pub seed: u64,
-    /// The reconstruction filter through which samples reach pixels.
-    #[serde(default)]
-    pub filter: FilterDesc,
-    /// Ray-triangle test: "watertight" or "moller".
-    #[serde(default = "default_triangle")]
-    pub triangle: String,
-    /// `[render.bvh]`: how the BVH is built, when `accel = "bvh"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bvh: Option<super::BvhDesc>,
-    /// `[render.grid]`: the uniform grid's resolution, when `accel = "grid"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub grid: Option<super::GridDesc>,
-    /// `[render.kdtree]`: the kd-tree's build parameters, when `accel = "kdtree"`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub kdtree: Option<super::KdTreeDesc>,
-}
-
-impl Default for RenderDesc {
-    fn default() -> Self {
-        Self {
-            integrator: IntegratorName::default(),
-            max_depth: default_max_depth(),
-            rr_depth: default_rr_depth(),
-            hide_emitters: false,
-            accel: default_accel(),
-            spp: default_spp(),
-            sampler: None,
-            seed: 0,
-            filter: FilterDesc::default(),
-            triangle: default_triangle(),
-            bvh: None,
-            grid: None,
-            kdtree: None,
+/// `[render]`, with one optional `[render.NAME]` table of build options per registered
+/// acceleration structure (`accel/registry.rs`).
+macro_rules! render_desc {
+    ($($Variant:ident($module:ident::$Type:ident)),* $(,)?) => {
+        #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+        #[serde(deny_unknown_fields)]
+        pub struct RenderDesc {
+            #[serde(default)]
+            pub integrator: IntegratorName,
+            /// Whitted: the deepest recursion. Path and direct: Mitsuba's meaning, the most vertices of a
+            /// path (1: emitters seen directly; 2: direct light; -1: unlimited).
+            #[serde(default = "default_max_depth")]
+            pub max_depth: i32,
+            /// Path: the depth from which Russian roulette may end paths (Mitsuba's `rr_depth`).
+            #[serde(default = "default_rr_depth")]
+            pub rr_depth: u32,
+            /// Path and direct: emitters seen directly by the camera are black.
+            #[serde(default)]
+            pub hide_emitters: bool,
+            #[serde(default = "default_accel")]
+            pub accel: String,
+            /// Samples per pixel. Raycast and Whitted: 1 means exactly the pixel centre.
+            #[serde(default = "default_spp")]
+            pub spp: u32,
+            /// How samples are drawn; unset, the integrator's own choice ([`IntegratorName::sampler`]).
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub sampler: Option<SamplerName>,
+            /// Another seed gives another (equally valid) noise pattern.
+            #[serde(default)]
+            pub seed: u64,
+            /// The reconstruction filter through which samples reach pixels.
+            #[serde(default)]
+            pub filter: FilterDesc,
+            /// Ray-triangle test: "watertight" or "moller".
+            #[serde(default = "default_triangle")]
+            pub triangle: String,
+            $(
+                #[doc = concat!("`[render.", stringify!($module), "]`: how the structure `",
+                    stringify!($module), "` is built (when `accel` names it).")]
+                #[serde(default, skip_serializing_if = "Option::is_none")]
+                pub $module: Option<<crate::accel::$Type as Structure>::Options>,
+            )*
         }
-    }
+
+        impl Default for RenderDesc {
+            fn default() -> Self {
+                Self {
+                    integrator: IntegratorName::default(),
+                    max_depth: default_max_depth(),
+                    rr_depth: default_rr_depth(),
+                    hide_emitters: false,
+                    accel: default_accel(),
+                    spp: default_spp(),
+                    sampler: None,
+                    seed: 0,
+                    filter: FilterDesc::default(),
+                    triangle: default_triangle(),
+                    $($module: None,)*
+                }
+            }
+        }
+
+        impl RenderDesc {
+            /// The structures' build options: `[render.NAME]` where the file gives it, the
+            /// defaults elsewhere.
+            pub fn accel_options(&self) -> AccelOptions {
+                AccelOptions {
+                    $($module: self.$module.unwrap_or_default(),)*
+                }
+            }
+
+            /// The first option of a `[render.NAME]` table that makes no sense: the table's name and
+            /// the problem.
+            pub fn check_accel_options(&self) -> Result<(), (&'static str, BadOption)> {
+                $(if let Some(o) = &self.$module {
+                    <crate::accel::$Type as Structure>::check_options(o)
+                        .map_err(|e| (stringify!($module), e))?;
+                })*
+                Ok(())
+            }
+        }
+    };
 }
+crate::accel::for_each_structure!(render_desc);
 
 /// Which integrator renders the scene.
 #[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]

@@ -25,8 +25,8 @@ use {
     super::node::{self, Child},
     super::traverse::{stack_need, BLOCKS, MOLLER, PAIRS},
     super::tri_block::RayTri,
-    crate::accel::bvh::far_scale,
     crate::accel::has_avx2,
+    crate::math::far_scale,
     std::mem::MaybeUninit,
 };
 

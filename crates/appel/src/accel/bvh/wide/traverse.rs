@@ -12,9 +12,8 @@ use super::node::{self, Child, WideNode};
 use super::quad_block::QuadBlock;
 use super::tri_block::{LaneValues, RayTri, TriBlock};
 use super::WideBvh;
-use crate::accel::bvh::far_scale;
 use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
-use crate::math::Ray;
+use crate::math::{far_scale, Ray};
 use std::mem::MaybeUninit;
 
 /// A ray prepared for the slab tests. `near[a]` and `far[a]` pick the rows of [`WideNode::bounds`]
@@ -55,7 +54,7 @@ struct Entry {
     t: f32,
 }
 
-/// The slab test of [`crate::accel::bvh::RayBox::hits`] on every child, conservative in the same
+/// The slab test of [`crate::math::RayBox::hits`] on every child, conservative in the same
 /// way: the far distance is scaled by `1 + 2 gamma(3)` (Ize 2013). The scale is folded into the
 /// reciprocal once per ray (`inv_far`) rather than applied at every node: `(b - o) (inv s)`
 /// takes as many roundings as `((b - o) inv) s`, each a factor within `1 +- 2^-24`, so the same
