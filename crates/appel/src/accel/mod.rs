@@ -18,8 +18,8 @@ pub use grid::GridOptions;
 pub use kdtree::{KdNode, KdOptions};
 pub use mesh_prims::MeshPrimitives;
 pub use octree::OctreeOptions;
-pub(crate) use registry::for_each_structure;
 use registry::define_structures;
+pub(crate) use registry::for_each_structure;
 pub use stats::{AccelStats, TraversalStats};
 pub use structure::{BadOption, NoOptions, Structure};
 

@@ -208,6 +208,8 @@ pub(super) fn moller_candidates_scalar(
     for lane in 0..4 {
         let row = |r: usize| Vec3::new(b.v[r][lane], b.v[r + 1][lane], b.v[r + 2][lane]);
         let (det, u, v, t) = crate::geometry::triangle::moller_values(ray, row(0), row(3), row(6));
+        // Not `!(0.0..=1.0).contains(&u)`: a NaN `u` is kept, as the SIMD comparisons keep it.
+        #[allow(clippy::manual_range_contains)]
         let out_u = det == 0.0 || u < 0.0 || u > 1.0;
         let out_v = v < 0.0 || u + v > 1.0;
         let out_t = t <= 0.0 || t >= t_max;
