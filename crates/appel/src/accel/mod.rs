@@ -279,7 +279,8 @@ mod tests {
         let m = testutil::soup(500, 2);
         for &n in AccelKind::NAMES {
             let p = Asked {
-                // Moller-Trumbore triangles are called back by every structure.
+                // `Asked` gives no triangle vertices (it does not pass on
+                // `moller_triangle`), so every structure calls each primitive back.
                 inner: MeshPrimitives {
                     mesh: &m,
                     test: crate::geometry::TriangleTest::Moller,
