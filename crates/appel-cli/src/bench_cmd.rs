@@ -2,9 +2,9 @@ use crate::scene_args::{load_scene_with, parse_size, ParamArgs, ViewArgs};
 use anyhow::{anyhow, bail, Result};
 use appel::accel::AccelKind;
 use appel::bench::{
-    bench_accel, bench_embree, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget,
-    EmbreeBenchOptions, BENCH_SCENES,
+    bench_pairings, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget, BENCH_SCENES,
 };
+use appel::geometry::TriangleTest;
 use appel::io::mitsuba::XmlOptions;
 use appel::scene::{Description, SceneOptions};
 use embree_peer::BuildQuality;
@@ -63,9 +63,12 @@ pub struct BenchArgs {
     /// Embree's build quality: low, medium (Embree's default) or high.
     #[arg(long, default_value = "medium", requires = "embree")]
     embree_quality: String,
-    /// Embree's robust (watertight) mode, RTC_SCENE_FLAG_ROBUST.
-    #[arg(long, requires = "embree")]
-    embree_robust: bool,
+    /// Comma-separated ray-triangle tests to measure Appel with, of watertight and moller, each on
+    /// the same rays; with --embree each beside the Embree mode of the same kind: watertight with
+    /// Embree's robust mode (RTC_SCENE_FLAG_ROBUST), moller with Embree's default [default: the
+    /// target's own; with --embree: watertight,moller].
+    #[arg(long)]
+    triangle: Option<String>,
     /// Build the BVH with compact leaves (`[render.bvh] compact = true`): primitive ids instead of
     /// vertices.
     #[arg(long)]
@@ -120,6 +123,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
     })?;
     let xml = args.params.xml_options()?;
     let mut target = load_target(&args.target, args.triangles, w, h, &args.view, &xml)?;
+    let tests = match (&args.triangle, args.embree) {
+        (Some(list), _) => parse_triangle_tests(list)?,
+        (None, true) => TriangleTest::ALL.to_vec(),
+        (None, false) => vec![target.geometry.triangle_test],
+    };
     target.accel_options.bvh.compact |= args.bvh_compact;
     target.accel_options.bvh.pairs &= !args.bvh_no_pairs;
     if let (Some(what), Some(out)) = (&args.heatmap, &args.output) {
@@ -155,35 +163,43 @@ pub fn run(args: BenchArgs) -> Result<()> {
         );
     }
     let mut notes = vec![];
-    for kind in kinds {
-        let r = bench_accel(&target, &rays, kind, &options);
-        print_result(&r, args.json)?;
-        notes.push(memory_note(&r));
-        if let (Some(one), Some(all)) = (r.packet8_mrays_1t, r.packet8_mrays) {
+    for &test in &tests {
+        let embree = args.embree.then_some(quality);
+        let p = bench_pairings(&mut target, &rays, &kinds, test, &options, embree)
+            .map_err(|e| anyhow!(e))?;
+        if !args.json && tests.len() > 1 {
+            println!("-- triangle test: {}", test.name());
+        }
+        for r in &p.rows {
+            print_result(r, args.json)?;
+            let tag = row_tag(r, tests.len());
+            notes.push(memory_note(&tag, r));
+            if let (Some(one), Some(all)) = (r.packet8_mrays_1t, r.packet8_mrays) {
+                notes.push(format!(
+                    "{tag}: camera rays in packets of 8: {} / {} Mrays/s ({} of {} hits differ from single rays')",
+                    rate(one),
+                    rate(all),
+                    r.packet8_mismatches.unwrap_or(0),
+                    r.rays_primary
+                ));
+            }
+        }
+        if let Some((r, about)) = &p.embree {
+            print_result(r, args.json)?;
+            if !args.json {
+                for ours in &p.rows {
+                    print_ratios(ours);
+                }
+            }
             notes.push(format!(
-                "{}: camera rays in packets of 8: {} / {} Mrays/s ({} of {} hits differ from single rays')",
-                r.accel,
-                rate(one),
-                rate(all),
-                r.packet8_mismatches.unwrap_or(0),
-                r.rays_primary
+                "{about}: camera rays in packets of 8 (rtcIntersect8): {} / {} Mrays/s; \
+                 same primitive as Appel's bvh ({}) on {:.4}% of camera and incoherent rays",
+                rate(r.packet8_mrays_1t.unwrap_or(0.0)),
+                rate(r.packet8_mrays.unwrap_or(0.0)),
+                test.name(),
+                100.0 * r.agreement.unwrap_or(0.0)
             ));
         }
-    }
-    if args.embree {
-        let e = EmbreeBenchOptions {
-            quality,
-            robust: args.embree_robust,
-        };
-        let (r, about) = bench_embree(&target, &rays, &options, &e).map_err(|e| anyhow!(e))?;
-        print_result(&r, args.json)?;
-        notes.push(format!(
-            "{about}: camera rays in packets of 8 (rtcIntersect8): {} / {} Mrays/s; \
-             same primitive as Appel's bvh on {:.4}% of camera and incoherent rays",
-            rate(r.packet8_mrays_1t.unwrap_or(0.0)),
-            rate(r.packet8_mrays.unwrap_or(0.0)),
-            100.0 * r.agreement.unwrap_or(0.0)
-        ));
     }
     if !args.json {
         println!("Mrays/s with 1 thread / {} threads; closest hit for camera and incoherent rays, any hit for shadow rays", rayon_threads(threads));
@@ -195,7 +211,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
 }
 
 /// What the structure and its scene take once built, and the process's peak while it was built.
-fn memory_note(r: &BenchResult) -> String {
+fn memory_note(tag: &str, r: &BenchResult) -> String {
     let mb = |b: f64| b / 1e6;
     let total = (r.bytes + r.scene_bytes) as f64;
     let peak = r.build_peak_rss.map_or(String::new(), |p| {
@@ -206,13 +222,57 @@ fn memory_note(r: &BenchResult) -> String {
         )
     });
     format!(
-        "{}: memory {:.0} MB ({:.0} MB structure + {:.0} MB meshes and primitive list), {:.1} bytes per triangle{peak}",
-        r.accel,
+        "{tag}: memory {:.0} MB ({:.0} MB structure + {:.0} MB meshes and primitive list), {:.1} bytes per triangle{peak}",
         mb(total),
         mb(r.bytes as f64),
         mb(r.scene_bytes as f64),
         r.bytes_per_triangle
     )
+}
+
+/// `watertight,moller` to the triangle tests it names.
+fn parse_triangle_tests(list: &str) -> Result<Vec<TriangleTest>> {
+    list.split(',')
+        .map(|n| {
+            TriangleTest::from_name(n.trim()).ok_or_else(|| {
+                anyhow!(
+                    "--triangle: unknown triangle test `{n}`, expected some of: {}",
+                    TriangleTest::NAMES.join(", ")
+                )
+            })
+        })
+        .collect()
+}
+
+/// A row's name in the notes: the structure, and its triangle test when several were measured.
+fn row_tag(r: &BenchResult, tests: usize) -> String {
+    if tests > 1 {
+        format!("{} ({})", r.accel, r.triangle)
+    } else {
+        r.accel.clone()
+    }
+}
+
+/// A table row of a structure's ratios to the Embree it was paired with: `x` ratios of the
+/// throughputs (above 1: faster than Embree) and of the build time (below 1: faster).
+fn print_ratios(r: &BenchResult) {
+    let Some(v) = &r.vs_embree else { return };
+    let pair = |a: f64, b: f64| format!("{a:.2}x / {b:.2}x");
+    let packets = match (v.packet8_1t, v.packet8) {
+        (Some(a), Some(b)) => format!("; packets of 8 {}", pair(a, b)),
+        _ => String::new(),
+    };
+    println!(
+        "{:<13} {:>8.2}x {:>12} {:>19} {:>19} {:>19}   ({} / {}{packets})",
+        "  ratio",
+        v.build,
+        "",
+        pair(v.camera_1t, v.camera),
+        pair(v.incoherent_1t, v.incoherent),
+        pair(v.shadow_1t, v.shadow),
+        r.accel,
+        v.peer,
+    );
 }
 
 /// `bvh,kdtree` to the structures it names.

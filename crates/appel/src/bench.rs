@@ -3,8 +3,10 @@
 //! all of them; and the same figures for Embree on the same rays ([`embree`]).
 
 mod embree;
+mod pairing;
 pub mod rss;
 pub use embree::{bench_embree, flat_triangles, EmbreeBenchOptions, FlatTriangles};
+pub use pairing::{bench_pairings, embree_robust_for, Pairing};
 
 use crate::accel::{Accel, AccelKind, AccelOptions, TraversalStats};
 use crate::geometry::procedural::{append, icosphere, scattered_triangles, stadium, SplitMix64};
@@ -84,6 +86,9 @@ pub fn bench_scene(name: &str, triangles: usize, width: u32, height: u32) -> Opt
 pub struct BenchResult {
     pub accel: String,
     pub scene: String,
+    /// The ray-triangle test: `watertight` or `moller` (Embree's robust mode is watertight, its
+    /// default Moller-Trumbore).
+    pub triangle: String,
     pub triangles: usize,
     pub primitives: usize,
     /// Median build time over the build runs.
@@ -131,6 +136,48 @@ pub struct BenchResult {
     /// The same means for the incoherent rays.
     pub incoherent_nodes_per_ray: f64,
     pub incoherent_tests_per_ray: f64,
+    /// This structure against Embree with the same triangle test, measured beside it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vs_embree: Option<PeerRatios>,
+}
+
+/// One structure over a peer measured on the same rays in the same run: throughput ratios (above 1:
+/// the structure is faster) and the build time's ratio (below 1: the structure builds faster).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PeerRatios {
+    /// The peer's row (`accel` of its [`BenchResult`]).
+    pub peer: String,
+    pub camera_1t: f64,
+    pub incoherent_1t: f64,
+    pub shadow_1t: f64,
+    pub camera: f64,
+    pub incoherent: f64,
+    pub shadow: f64,
+    /// Camera-ray packets of eight against the peer's (BVH only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packet8_1t: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub packet8: Option<f64>,
+    pub build: f64,
+}
+
+impl PeerRatios {
+    pub fn of(ours: &BenchResult, peer: &BenchResult) -> Self {
+        let r = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::NAN };
+        let opt = |a: Option<f64>, b: Option<f64>| Some(r(a?, b?));
+        Self {
+            peer: peer.accel.clone(),
+            camera_1t: r(ours.primary_mrays_1t, peer.primary_mrays_1t),
+            incoherent_1t: r(ours.incoherent_mrays_1t, peer.incoherent_mrays_1t),
+            shadow_1t: r(ours.shadow_mrays_1t, peer.shadow_mrays_1t),
+            camera: r(ours.primary_mrays, peer.primary_mrays),
+            incoherent: r(ours.incoherent_mrays, peer.incoherent_mrays),
+            shadow: r(ours.shadow_mrays, peer.shadow_mrays),
+            packet8_1t: opt(ours.packet8_mrays_1t, peer.packet8_mrays_1t),
+            packet8: opt(ours.packet8_mrays, peer.packet8_mrays),
+            build: r(ours.build_ms, peer.build_ms),
+        }
+    }
 }
 
 pub struct BenchOptions {
@@ -373,6 +420,7 @@ pub fn bench_accel(
     BenchResult {
         accel: kind.name().to_string(),
         scene: target.name.clone(),
+        triangle: g.triangle_test.name().to_string(),
         triangles: g.triangle_count(),
         primitives: g.prims.len(),
         build_ms: median(builds),
@@ -399,6 +447,7 @@ pub fn bench_accel(
         tests_per_ray,
         incoherent_nodes_per_ray,
         incoherent_tests_per_ray,
+        vs_embree: None,
     }
 }
 

@@ -3,7 +3,7 @@
 //! and random rays, including axis-aligned rays with `+0` and `-0` direction components.
 
 use appel::accel::{Accel, AccelKind, Bvh, BvhOptions, MeshPrimitives, Primitives, TraversalStats};
-use appel::geometry::TriangleMesh;
+use appel::geometry::{TriangleMesh, TriangleTest};
 use appel::math::{Ray, Vec3};
 use proptest::prelude::*;
 
@@ -18,9 +18,17 @@ fn mesh(tris: &[[Vec3; 3]]) -> TriangleMesh {
     }
 }
 
-/// Checks all structures against brute force; returns the number of (ray, t_max) pairs that hit.
+/// Checks all structures against brute force with either triangle test (the wide BVH holds
+/// watertight triangles as vertices, Moller-Trumbore ones as a vertex and two edges); returns the
+/// number of (ray, t_max) pairs that hit.
 fn check_all(m: &TriangleMesh, rays: &[Ray]) -> usize {
-    let prims = MeshPrimitives::new(m);
+    [TriangleTest::Watertight, TriangleTest::Moller]
+        .into_iter()
+        .map(|test| check_all_with(MeshPrimitives { mesh: m, test }, rays))
+        .sum()
+}
+
+fn check_all_with(prims: MeshPrimitives, rays: &[Ray]) -> usize {
     let brute = Accel::build(AccelKind::Brute, &prims);
     let mut others: Vec<(String, Accel)> = AccelKind::NAMES
         .iter()

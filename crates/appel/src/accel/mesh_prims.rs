@@ -41,4 +41,9 @@ impl Primitives for MeshPrimitives<'_> {
     fn watertight_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
         (self.test == TriangleTest::Watertight).then(|| self.mesh.vertices(i))
     }
+
+    #[inline]
+    fn moller_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+        (self.test == TriangleTest::Moller).then(|| self.mesh.vertices(i))
+    }
 }

@@ -111,6 +111,13 @@ pub trait Primitives: Sync {
         let _ = i;
         None
     }
+    /// The vertices of primitive `i` if it is a triangle whose [`Primitives::intersect`] is exactly
+    /// [`crate::geometry::triangle::moller_trumbore`] on them: as [`Self::watertight_triangle`],
+    /// for the other test. `None` (the default) always calls back.
+    fn moller_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+        let _ = i;
+        None
+    }
     /// The closest hit among primitives `ids` in `(0, t_max)`, narrowing `t_max` at each nearer
     /// hit; with `ANY`, the first hit found (as [`test_primitive`] reports it). Structures ask this
     /// for a leaf of called-back primitives. The default tests them one by one; a set of
@@ -291,7 +298,8 @@ mod tests {
         let m = testutil::soup(500, 2);
         for &n in AccelKind::NAMES {
             let p = Asked {
-                // Moller-Trumbore triangles are called back by every structure.
+                // `Asked` gives no triangle vertices (it does not pass on
+                // `moller_triangle`), so every structure calls each primitive back.
                 inner: MeshPrimitives {
                     mesh: &m,
                     test: crate::geometry::TriangleTest::Moller,

@@ -7,6 +7,7 @@ use crate::math::Ray;
 use crate::scene::{Geometry, ShapeKind};
 use embree_peer::{BuildQuality, Embree, EmbreeHit, TriangleScene};
 
+#[derive(Clone, Copy, Debug)]
 pub struct EmbreeBenchOptions {
     pub quality: BuildQuality,
     /// `RTC_SCENE_FLAG_ROBUST`: Embree's watertight mode. Off by default, Embree's fastest setting.
@@ -97,6 +98,7 @@ pub fn bench_embree(
     let result = BenchResult {
         accel: if e.robust { "embree-robust" } else { "embree" }.to_string(),
         scene: target.name.clone(),
+        triangle: if e.robust { "watertight" } else { "moller" }.to_string(),
         triangles: g.triangle_count(),
         primitives: g.prims.len(),
         build_ms: median(builds),
@@ -136,6 +138,7 @@ pub fn bench_embree(
         tests_per_ray: 0.0,
         incoherent_nodes_per_ray: 0.0,
         incoherent_tests_per_ray: 0.0,
+        vs_embree: None,
     };
     let about = format!(
         "Embree {} ({} build quality{}, native 8-wide packets: {})",

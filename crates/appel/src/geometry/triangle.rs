@@ -15,6 +15,21 @@ pub enum TriangleTest {
 }
 
 impl TriangleTest {
+    /// The names `render.triangle` and `appel bench --triangle` take, in the order of [`Self::ALL`].
+    pub const NAMES: &'static [&'static str] = &["watertight", "moller"];
+    pub const ALL: [TriangleTest; 2] = [TriangleTest::Watertight, TriangleTest::Moller];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::NAMES
+            .iter()
+            .position(|&n| n == name)
+            .map(|i| Self::ALL[i])
+    }
+
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
     #[inline]
     pub fn intersect(self, ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<PrimHit> {
         match self {
@@ -226,31 +241,95 @@ pub(crate) fn watertight_finish(
 /// Moller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection".
 #[inline]
 pub fn moller_trumbore(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<PrimHit> {
-    let e1 = p1 - p0;
-    let e2 = p2 - p0;
-    let pvec = ray.dir.cross(e2);
-    let det = e1.dot(pvec);
-    // det is exactly zero for a ray parallel to the plane; a degenerate triangle has e1 x e2 = 0.
-    if det == 0.0 || e1.cross(e2) == Vec3::ZERO {
+    let [p0, e1, e2] = moller_edges([p0, p1, p2]);
+    moller_trumbore_edges(ray, t_max, p0, e1, e2)
+}
+
+/// A triangle as [`moller_trumbore_edges`] takes it: `p0`, `e1 = p1 - p0` and `e2 = p2 - p0`,
+/// what Embree's `Triangle4` stores. A degenerate triangle (`e1 x e2` exactly zero) gets zero
+/// edges, which every ray misses: the determinant is zero, or NaN (and so is `u`) for a direction
+/// with an infinite component.
+#[inline]
+pub fn moller_edges([p0, p1, p2]: [Vec3; 3]) -> [Vec3; 3] {
+    let (e1, e2) = (p1 - p0, p2 - p0);
+    if cross(e1, e2) == Vec3::ZERO {
+        [p0, Vec3::ZERO, Vec3::ZERO]
+    } else {
+        [p0, e1, e2]
+    }
+}
+
+/// [`moller_trumbore`] from a vertex and the two edges leaving it ([`moller_edges`]): the reference
+/// the wide BVH's Moller-Trumbore blocks compute lane by lane, operation for operation (no fused
+/// multiply-adds, one correctly rounded division), so their hits are this function's bit for bit.
+#[inline]
+pub fn moller_trumbore_edges(
+    ray: &Ray,
+    t_max: f32,
+    p0: Vec3,
+    e1: Vec3,
+    e2: Vec3,
+) -> Option<PrimHit> {
+    let pvec = cross(ray.dir, e2);
+    let det = dot(e1, pvec);
+    // det is exactly zero for a ray parallel to the plane (and for a degenerate triangle's zero
+    // edges).
+    if det == 0.0 {
         return None;
     }
     let inv_det = 1.0 / det;
     let tvec = ray.origin - p0;
-    let u = tvec.dot(pvec) * inv_det;
+    let u = dot(tvec, pvec) * inv_det;
     if !(0.0..=1.0).contains(&u) {
         return None;
     }
-    let qvec = tvec.cross(e1);
-    let v = ray.dir.dot(qvec) * inv_det;
-    if v < 0.0 || u + v > 1.0 {
+    let qvec = cross(tvec, e1);
+    let v = dot(ray.dir, qvec) * inv_det;
+    moller_accept(u, v, dot(e2, qvec) * inv_det, t_max)
+}
+
+/// Every value [`moller_trumbore_edges`] computes, without its early exits: the determinant, `u`,
+/// `v` and `t`, by the same operations (for the one-lane-at-a-time fallback of the SIMD blocks).
+#[inline(always)]
+pub(crate) fn moller_values(ray: &Ray, p0: Vec3, e1: Vec3, e2: Vec3) -> (f32, f32, f32, f32) {
+    let pvec = cross(ray.dir, e2);
+    let det = dot(e1, pvec);
+    let inv_det = 1.0 / det;
+    let tvec = ray.origin - p0;
+    let qvec = cross(tvec, e1);
+    (
+        det,
+        dot(tvec, pvec) * inv_det,
+        dot(ray.dir, qvec) * inv_det,
+        dot(e2, qvec) * inv_det,
+    )
+}
+
+/// The end of [`moller_trumbore_edges`] from its barycentrics and distance: `None` unless
+/// `u` is in `[0, 1]`, `v >= 0`, `u + v <= 1` and `t` in `(0, t_max)` (a NaN `v` passes its
+/// tests, as in the original's `v < 0 || u + v > 1`; its `t` is then NaN or infinite).
+#[inline(always)]
+pub(crate) fn moller_accept(u: f32, v: f32, t: f32, t_max: f32) -> Option<PrimHit> {
+    if !(0.0..=1.0).contains(&u) || v < 0.0 || u + v > 1.0 {
         return None;
     }
-    let t = e2.dot(qvec) * inv_det;
-    if t > 0.0 && t < t_max {
-        Some(PrimHit { t, u, v, sub: 0 })
-    } else {
-        None
-    }
+    (t > 0.0 && t < t_max).then_some(PrimHit { t, u, v, sub: 0 })
+}
+
+/// The cross product written out, in the order the SIMD blocks repeat it.
+#[inline(always)]
+fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    Vec3::new(
+        a.y * b.z - b.y * a.z,
+        a.z * b.x - b.z * a.x,
+        a.x * b.y - b.x * a.y,
+    )
+}
+
+/// The dot product written out, summed left to right as the SIMD blocks sum it.
+#[inline(always)]
+fn dot(a: Vec3, b: Vec3) -> f32 {
+    a.x * b.x + a.y * b.y + a.z * b.z
 }
 
 #[cfg(test)]
@@ -266,6 +345,15 @@ mod tests {
     fn both(ray: &Ray, t_max: f32) -> [Option<PrimHit>; 2] {
         [TriangleTest::Watertight, TriangleTest::Moller]
             .map(|m| m.intersect(ray, t_max, TRI[0], TRI[1], TRI[2]))
+    }
+
+    #[test]
+    fn names_round_trip_and_watertight_is_the_default() {
+        for t in TriangleTest::ALL {
+            assert_eq!(TriangleTest::from_name(t.name()), Some(t));
+        }
+        assert_eq!(TriangleTest::from_name("moeller"), None);
+        assert_eq!(TriangleTest::default().name(), "watertight");
     }
 
     #[test]

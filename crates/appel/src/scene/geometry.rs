@@ -785,6 +785,17 @@ impl Primitives for Geometry {
             _ => None,
         }
     }
+
+    #[inline]
+    fn moller_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+        let r = self.prims.get(i);
+        match &self.shapes[r.shape as usize].kind {
+            ShapeKind::Mesh(m) if self.triangle_test == TriangleTest::Moller => {
+                Some(self.meshes[*m as usize].vertices(r.index as usize))
+            }
+            _ => None,
+        }
+    }
 }
 
 #[cfg(test)]

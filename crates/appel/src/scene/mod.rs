@@ -303,10 +303,8 @@ impl Scene {
             },
             ..settings
         };
-        let triangle_test = match d.render.triangle.as_str() {
-            "moller" => TriangleTest::Moller,
-            _ => TriangleTest::Watertight,
-        };
+        // Validation has rejected other names.
+        let triangle_test = TriangleTest::from_name(&d.render.triangle).unwrap_or_default();
         // Material 0 is the default grey diffuse of shapes that name none.
         let names: Vec<&String> = d.materials.keys().collect();
         let mut materials = vec![Material::new(&Default::default())];

@@ -15,7 +15,7 @@ pub const MAX_PIXELS: u64 = 100_000_000;
 pub const MAX_DIMENSION: u32 = 65_536;
 pub const MAX_DEPTH: i32 = 1024;
 pub const MAX_SPP: u32 = 65_536;
-pub const TRIANGLE_TESTS: &[&str] = &["watertight", "moller"];
+pub const TRIANGLE_TESTS: &[&str] = crate::geometry::TriangleTest::NAMES;
 
 /// A problem and where it is.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,5 +1,7 @@
-//! A leaf's blocks of triangles (or of pairs of triangles) against one ray.
+//! A leaf's blocks of triangles (or of pairs of triangles, or of Moller-Trumbore triangles) against
+//! one ray.
 
+use super::mt_block::{finish_moller, moller_candidates, MtValues};
 use super::quad_block::QuadBlock;
 use super::tri_block::{finish, LaneValues, RayTri, TriBlock};
 use crate::accel::{test_primitive, Hit, Primitives, TraversalStats};
@@ -129,6 +131,71 @@ pub(crate) fn test_quads<P: Primitives, const ANY: bool, const AVX: bool>(
         // SAFETY: the filter run into `vals` just kept the lanes of `m`.
         if unsafe { decide::<P, ANY>(m, &vals, lane, prims, ray, t_max, best, stats) } {
             return;
+        }
+    }
+}
+
+/// [`test_blocks`] for a leaf of Moller-Trumbore blocks (`mt_block.rs`): two blocks per AVX test
+/// where the leaf has them, each kept lane decided from the test's values against the current
+/// `t_max` (or called back).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn test_moller_blocks<P: Primitives, const ANY: bool, const AVX: bool>(
+    blocks: &[TriBlock],
+    count: usize,
+    prims: &P,
+    ray: &Ray,
+    t_max: &mut f32,
+    best: &mut Option<Hit>,
+    stats: &mut TraversalStats,
+) {
+    let mut vals = MtValues::new();
+    let mut at = 0;
+    while at < blocks.len() {
+        #[cfg(target_arch = "x86_64")]
+        let (mut m, step) = if AVX && at + 1 < blocks.len() {
+            // SAFETY: callers pass `AVX` only from functions compiled for AVX2, entered after
+            // detecting it.
+            let m = unsafe {
+                super::mt_block::moller_candidates_pair_avx2(
+                    &blocks[at],
+                    &blocks[at + 1],
+                    ray,
+                    *t_max,
+                    &mut vals,
+                )
+            };
+            (m, 2)
+        } else {
+            (moller_candidates(&blocks[at], ray, *t_max, &mut vals), 1)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let (mut m, step) = (moller_candidates(&blocks[at], ray, *t_max, &mut vals), 1);
+        // The last block's unused lanes repeat lane 0: skip them.
+        let lanes = count - 4 * at;
+        if lanes < 8 {
+            m &= (1 << lanes) - 1;
+        }
+        let pair = &blocks[at..at + step];
+        at += step;
+        while m != 0 {
+            let bit = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let (b, lane) = (&pair[bit / 4], bit % 4);
+            let id = b.id[lane];
+            let h = if b.v[0][lane].is_nan() {
+                test_primitive::<P, ANY>(prims, id as usize, ray, *t_max, stats)
+            } else {
+                // SAFETY: the test run into `vals` just kept this lane.
+                unsafe { finish_moller(&vals, bit, *t_max) }
+            };
+            if let Some(h) = h {
+                *best = Some(Hit::new(id as usize, h));
+                if ANY {
+                    return;
+                }
+                *t_max = h.t;
+            }
         }
     }
 }

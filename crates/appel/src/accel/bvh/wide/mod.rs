@@ -8,6 +8,7 @@
 #[macro_use]
 mod tri_block;
 mod leaf;
+mod mt_block;
 mod node;
 mod packet;
 mod quad_block;
@@ -24,6 +25,7 @@ pub use tri_block::TriBlock;
 use super::node::BvhNode;
 use crate::accel::Primitives;
 use crate::math::{Aabb, Vec3};
+use mt_block::LaneTest;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
@@ -32,6 +34,9 @@ pub struct WideBvh<const W: usize> {
     nodes: Vec<WideNode<W>>,
     /// The leaves' triangles; empty for compact leaves.
     blocks: Vec<TriBlock>,
+    /// What the triangle blocks hold: three vertices, or a vertex and two edges for
+    /// Moller-Trumbore triangles (`mt_block.rs`).
+    test: LaneTest,
     /// The leaves' pairs of triangles (leaves tagged [`node::QUADS`]), when the tree was built
     /// over pairs ([`Self::from_collapsed_paired`]).
     quads: Vec<QuadBlock>,
@@ -67,6 +72,7 @@ struct LeafRange {
 /// trees with more than 2^32 lanes; [`scatter`] is the usual way.
 fn gather<P: Primitives>(
     prims: &P,
+    test: LaneTest,
     leaves: &[LeafRange],
     indices: &[u32],
     blocks: &mut [TriBlock],
@@ -78,7 +84,7 @@ fn gather<P: Primitives>(
             let ids = &indices[l.first_index as usize..][..l.count as usize];
             let mut any_triangle = false;
             for (chunk, block) in ids.chunks(4).zip(run.iter_mut()) {
-                *block = TriBlock::gather(prims, chunk);
+                *block = TriBlock::gather(prims, test, chunk);
                 any_triangle |= block.has_triangle();
             }
             !any_triangle
@@ -93,6 +99,7 @@ fn gather<P: Primitives>(
 /// machine, so rough): the gather took 240-300 ms of a 650-980 ms build, this 37-46 ms.
 fn scatter<P: Primitives>(
     prims: &P,
+    test: LaneTest,
     leaves: &[LeafRange],
     indices: &[u32],
     blocks: &mut [TriBlock],
@@ -117,7 +124,7 @@ fn scatter<P: Primitives>(
         .enumerate()
         .with_min_len(4096)
         .for_each(|(id, &lane)| {
-            let tri = prims.watertight_triangle(id);
+            let tri = test.lane(prims, id);
             if tri.is_none() {
                 called_back.store(true, Relaxed);
             }
@@ -402,20 +409,26 @@ impl<const W: usize> WideBvh<W> {
     ) -> Self {
         let mut blocks: Vec<TriBlock> = Vec::new();
         let mut ids: Vec<[u32; 4]> = Vec::new();
+        // Compact leaves fetch watertight triangles only.
+        let test = if compact {
+            LaneTest::Watertight
+        } else {
+            LaneTest::of(prims)
+        };
         let no_triangles = if compact {
             ids = vec![[0; 4]; c.blocks];
             compact_ids(prims, &c.leaves, indices, &mut ids)
         } else if 4 * c.blocks <= u32::MAX as usize {
             blocks = bytemuck::zeroed_vec(c.blocks);
-            scatter(prims, &c.leaves, indices, &mut blocks)
+            scatter(prims, test, &c.leaves, indices, &mut blocks)
         } else {
             blocks = bytemuck::zeroed_vec(c.blocks);
-            gather(prims, &c.leaves, indices, &mut blocks)
+            gather(prims, test, &c.leaves, indices, &mut blocks)
         };
         for (l, _) in c.leaves.iter().zip(no_triangles).filter(|(_, none)| *none) {
             c.nodes[l.slot.0 as usize].child[l.slot.1 as usize] |= node::NO_TRIANGLES;
         }
-        Self::assemble(c, blocks, Vec::new(), ids)
+        Self::assemble(c, blocks, test, Vec::new(), ids)
     }
 
     /// Fills the leaves of a collapsed binary tree built over pair items (`indices` name entries
@@ -429,12 +442,13 @@ impl<const W: usize> WideBvh<W> {
         items: &[u32],
     ) -> Self {
         let (blocks, quads) = scatter_paired(prims, &c.leaves, indices, items, &mut c.nodes);
-        Self::assemble(c, blocks, quads, Vec::new())
+        Self::assemble(c, blocks, LaneTest::Watertight, quads, Vec::new())
     }
 
     fn assemble(
         c: Collapsed<W>,
         blocks: Vec<TriBlock>,
+        test: LaneTest,
         quads: Vec<QuadBlock>,
         ids: Vec<[u32; 4]>,
     ) -> Self {
@@ -448,6 +462,7 @@ impl<const W: usize> WideBvh<W> {
             prefetch: false,
             nodes: c.nodes,
             blocks,
+            test,
             quads,
             ids,
             depth: c.depth,
@@ -922,8 +937,9 @@ mod tests {
             let c = Collapse::<8>::run(&b.nodes);
             let mut x: Vec<TriBlock> = bytemuck::zeroed_vec(c.blocks);
             let mut y: Vec<TriBlock> = bytemuck::zeroed_vec(c.blocks);
-            let fx = gather(p, &c.leaves, &b.indices, &mut x);
-            let fy = scatter(p, &c.leaves, &b.indices, &mut y);
+            let test = LaneTest::of(p);
+            let fx = gather(p, test, &c.leaves, &b.indices, &mut x);
+            let fy = scatter(p, test, &c.leaves, &b.indices, &mut y);
             assert_eq!(fx, fy);
             let bits = |v: &[TriBlock]| -> Vec<u32> {
                 v.iter()
@@ -937,7 +953,9 @@ mod tests {
         }
         assert_eq!(both(&prims(&m)), 0);
         assert!(both(&mixed) > 0);
-        assert!(both(&moller) > 100);
+        // Moller-Trumbore triangles are gathered too (as a vertex and two edges).
+        assert_eq!(both(&moller), 0);
+        assert!(both(&EveryNth(prims(&m), 1)) > 100);
     }
 
     /// Triangles whose index is odd are "other" primitives, tested through the call back.
@@ -958,14 +976,12 @@ mod tests {
         }
     }
 
-    /// Moller-Trumbore triangles are not gathered: every leaf is called back, without the filter.
+    /// Primitives that are no triangle the blocks take: every leaf is called back, without the
+    /// filter.
     #[test]
     fn leaves_without_triangles_are_flagged_and_agree() {
         let m = soup(2000, 6);
-        let p = MeshPrimitives {
-            mesh: &m,
-            test: crate::geometry::TriangleTest::Moller,
-        };
+        let p = EveryNth(prims(&m), 1);
         let bvh = Bvh::build(&p);
         let Wide::W8(w) = &bvh.wide else {
             panic!("not 8 wide")
@@ -984,16 +1000,197 @@ mod tests {
             |r, t, s| bvh.occluded(&p, r, t, s),
         );
         assert!(hits > 100, "{hits}");
-        // Watertight triangles are gathered: no leaf is flagged.
-        let tri = prims(&m);
-        let Wide::W8(w) = &Bvh::build(&tri).wide else {
+        // Watertight and Moller-Trumbore triangles are gathered: no leaf is flagged.
+        let moller = MeshPrimitives {
+            mesh: &m,
+            test: crate::geometry::TriangleTest::Moller,
+        };
+        for tree in [Bvh::build(&prims(&m)), Bvh::build(&moller)] {
+            let Wide::W8(w) = &tree.wide else {
+                panic!("not 8 wide")
+            };
+            assert!(w
+                .nodes
+                .iter()
+                .flat_map(|n| n.child)
+                .all(|c| c == node::EMPTY || c & node::NO_TRIANGLES == 0));
+        }
+    }
+
+    /// Moller-Trumbore triangles as their first vertex and two edges, called back where
+    /// `moller_triangle` says so (every `.1`-th): the hits are the scalar test's.
+    struct MollerEveryNth<'a>(MeshPrimitives<'a>, usize);
+
+    impl Primitives for MollerEveryNth<'_> {
+        fn count(&self) -> usize {
+            self.0.count()
+        }
+        fn bounds(&self, i: usize) -> crate::math::Aabb {
+            self.0.bounds(i)
+        }
+        fn intersect(&self, i: usize, ray: &Ray, t_max: f32) -> Option<PrimHit> {
+            self.0.intersect(i, ray, t_max)
+        }
+        fn moller_triangle(&self, i: usize) -> Option<[Vec3; 3]> {
+            (!i.is_multiple_of(self.1)).then(|| self.0.mesh.vertices(i))
+        }
+    }
+
+    /// Trees of Moller-Trumbore blocks: every lane the triangle's vertex and edges, bit for bit,
+    /// and the same answers as brute force over the scalar test on every path (AVX2, the SSE
+    /// fallback, the deep traversal, 4 wide, a single leaf, packets), with some primitives called
+    /// back; a refit reads the edges again.
+    #[test]
+    fn moller_trees_hold_edges_and_agree_with_brute_force() {
+        use crate::geometry::triangle::moller_edges;
+        let m = soup(3000, 51);
+        let n = m.triangle_count();
+        let moller = MeshPrimitives {
+            mesh: &m,
+            test: crate::geometry::TriangleTest::Moller,
+        };
+        let mixed = MollerEveryNth(moller, 7);
+        // Lanes hold the edges of the triangle under their id (NaN where called back).
+        fn lanes_hold_edges<const W: usize>(w: &WideBvh<W>, p: &impl Primitives, n: usize) {
+            assert_eq!(w.test, LaneTest::Moller);
+            let mut seen = vec![0; n];
+            for c in w.nodes.iter().flat_map(|x| x.child) {
+                if c == node::EMPTY || !node::is_leaf(c) {
+                    continue;
+                }
+                assert_eq!(c & node::QUADS, 0);
+                for (id, lane) in leaf_triangles(w, c) {
+                    seen[id as usize] += 1;
+                    assert_eq!(lane, p.moller_triangle(id as usize).map(moller_edges));
+                }
+            }
+            assert!(seen.iter().all(|&k| k == 1));
+        }
+        for width in [4, 8] {
+            let opts = BvhOptions {
+                width,
+                ..Default::default()
+            };
+            for (tree, p) in [
+                (Bvh::build_with(&moller, opts), None),
+                (Bvh::build_with(&mixed, opts), Some(&mixed)),
+            ] {
+                let hits = match p {
+                    None => agrees_with_brute(
+                        &moller,
+                        &rays(500, 52),
+                        |r, t, s| tree.intersect(&moller, r, t, s),
+                        |r, t, s| tree.occluded(&moller, r, t, s),
+                    ),
+                    Some(p) => agrees_with_brute(
+                        p,
+                        &rays(500, 52),
+                        |r, t, s| tree.intersect(p, r, t, s),
+                        |r, t, s| tree.occluded(p, r, t, s),
+                    ),
+                };
+                assert!(hits > 200, "{hits}");
+                match &tree.wide {
+                    Wide::W4(w) => match p {
+                        None => lanes_hold_edges(w, &moller, n),
+                        Some(p) => lanes_hold_edges(w, p, n),
+                    },
+                    Wide::W8(w) => {
+                        match p {
+                            None => lanes_hold_edges(w, &moller, n),
+                            Some(p) => lanes_hold_edges(w, p, n),
+                        }
+                        agrees_with_brute(
+                            &moller,
+                            &rays(300, 53),
+                            |r, t, s| w.traverse_sized::<_, false, false>(&moller, r, t, s),
+                            |r, t, s| {
+                                w.traverse_sized::<_, true, false>(&moller, r, t, s)
+                                    .is_some()
+                            },
+                        );
+                        agrees_with_brute(
+                            &moller,
+                            &rays(300, 54),
+                            |r, t, s| w.traverse_deep::<_, false, false>(&moller, r, t, s),
+                            |r, t, s| {
+                                w.traverse_deep::<_, true, false>(&moller, r, t, s)
+                                    .is_some()
+                            },
+                        );
+                    }
+                    Wide::Binary => unreachable!(),
+                }
+            }
+        }
+        // Packets answer as single rays do.
+        let bvh = Bvh::build(&moller);
+        if bvh.has_packets() {
+            let eye = Vec3::new(0.1, 0.2, -4.0);
+            let rays: Vec<Ray> = (0..64 * 8)
+                .map(|k| {
+                    let (x, y) = ((k % 64) as f32 / 64.0 - 0.5, (k / 64) as f32 / 8.0 - 0.5);
+                    Ray::new(eye, Vec3::new(x, y, 1.5))
+                })
+                .collect();
+            let mut s = crate::accel::TraversalStats::default();
+            let mut hits = 0;
+            for chunk in rays.chunks(super::PACKET) {
+                let mut out = vec![None; chunk.len()];
+                bvh.intersect_packet(&moller, chunk, f32::INFINITY, &mut out, &mut s);
+                for (r, o) in chunk.iter().zip(&out) {
+                    assert_eq!(*o, bvh.intersect(&moller, r, f32::INFINITY, &mut s));
+                    hits += o.is_some() as usize;
+                }
+            }
+            assert!(hits > 100, "{hits}");
+        }
+        // A tree of one leaf.
+        let small = soup(5, 55);
+        let sp = MeshPrimitives {
+            mesh: &small,
+            test: crate::geometry::TriangleTest::Moller,
+        };
+        let one = Bvh::build(&sp);
+        let Wide::W8(w) = &one.wide else {
             panic!("not 8 wide")
         };
-        assert!(w
-            .nodes
-            .iter()
-            .flat_map(|n| n.child)
-            .all(|c| c == node::EMPTY || c & node::NO_TRIANGLES == 0));
+        assert!(w.root_leaf.is_some());
+        let aimed = (0..5).map(|i| {
+            let c = small.vertices(i).iter().copied().sum::<Vec3>() / 3.0;
+            let o = Vec3::new(9.0, 7.0, -8.0);
+            Ray::new(o, c - o)
+        });
+        let all: Vec<Ray> = rays(300, 56).into_iter().chain(aimed).collect();
+        let hits = agrees_with_brute(
+            &sp,
+            &all,
+            |r, t, s| one.intersect(&sp, r, t, s),
+            |r, t, s| one.occluded(&sp, r, t, s),
+        );
+        assert!(hits >= 5, "{hits}");
+        // A refit after the triangles moved reads their edges again.
+        let mut moved = m.clone();
+        for p in &mut moved.positions {
+            *p = *p * 1.5 + Vec3::new(0.1, -0.2, 0.3);
+        }
+        let mp = MeshPrimitives {
+            mesh: &moved,
+            test: crate::geometry::TriangleTest::Moller,
+        };
+        let mut tree = Bvh::build(&moller);
+        tree.refit(&mp);
+        let Wide::W8(w) = &tree.wide else {
+            panic!("not 8 wide")
+        };
+        lanes_hold_edges(w, &mp, n);
+        let hits = agrees_with_brute(
+            &mp,
+            &rays(300, 57),
+            |r, t, s| tree.intersect(&mp, r, t, s),
+            |r, t, s| tree.occluded(&mp, r, t, s),
+        );
+        assert!(hits > 100, "{hits}");
     }
 
     #[test]

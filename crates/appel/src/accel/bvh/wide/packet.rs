@@ -21,8 +21,9 @@ use crate::accel::{Hit, Primitives, TraversalStats};
 use crate::math::Ray;
 #[cfg(target_arch = "x86_64")]
 use {
+    super::mt_block::LaneTest,
     super::node::{self, Child},
-    super::traverse::{stack_need, BLOCKS, PAIRS},
+    super::traverse::{stack_need, BLOCKS, MOLLER, PAIRS},
     super::tri_block::RayTri,
     crate::accel::has_avx2,
     crate::math::far_scale,
@@ -72,7 +73,9 @@ impl WideBvh<8> {
         // SAFETY: `has_packets` checked for AVX2.
         #[cfg(target_arch = "x86_64")]
         if !rays.is_empty() && self.has_packets() {
-            let done = if self.quads.is_empty() {
+            let done = if self.test == LaneTest::Moller {
+                unsafe { self.packet_avx2::<P, MOLLER>(prims, rays, t_max, out, stats) }
+            } else if self.quads.is_empty() {
                 unsafe { self.packet_avx2::<P, BLOCKS>(prims, rays, t_max, out, stats) }
             } else {
                 unsafe { self.packet_avx2::<P, PAIRS>(prims, rays, t_max, out, stats) }

@@ -4,6 +4,7 @@
 //! they were grouped with; [`WideBvh::sah_cost`] measures that drift (Wald, Boulos & Shirley 2007,
 //! "Ray tracing deformable scenes using dynamic bounding volume hierarchies", section 4).
 
+use super::mt_block::LaneTest;
 use super::node::{self, Child};
 use super::quad_block::{ID, PAIR, SWAP};
 use super::{QuadBlock, TriBlock, WideBvh};
@@ -16,9 +17,10 @@ impl<const W: usize> WideBvh<W> {
     /// Recomputes the leaves' vertices and every node's boxes from `prims`, which must be the
     /// primitives the tree was built over (same count, same ids), moved.
     pub(crate) fn refit<P: Primitives>(&mut self, prims: &P) {
+        let test = self.test;
         self.blocks
             .par_iter_mut()
-            .for_each(|b| refit_block(b, prims));
+            .for_each(|b| refit_block(b, test, prims));
         self.quads.par_iter_mut().for_each(|q| refit_quad(q, prims));
         // Children always come after their parent in `nodes` (the collapse appends them), so one
         // backward pass sees every child's boxes before its parent needs them.
@@ -110,12 +112,12 @@ impl<const W: usize> WideBvh<W> {
 }
 
 /// Reads the triangles of a block's lanes again; called-back lanes (NaN) stay so.
-fn refit_block<P: Primitives>(b: &mut TriBlock, prims: &P) {
+fn refit_block<P: Primitives>(b: &mut TriBlock, test: LaneTest, prims: &P) {
     for lane in 0..4 {
         if b.v[0][lane].is_nan() {
             continue;
         }
-        let tri = prims.watertight_triangle(b.id[lane] as usize);
+        let tri = test.lane(prims, b.id[lane] as usize);
         for k in 0..3 {
             for a in 0..3 {
                 b.v[3 * k + a][lane] = tri.map_or(f32::NAN, |t| t[k][a]);

@@ -6,7 +6,8 @@
 //! `W = 4`, the slab tests run four lanes at a time in SSE (part of every x86_64), or lane by lane
 //! on other targets.
 
-use super::leaf::{test_blocks, test_quads};
+use super::leaf::{test_blocks, test_moller_blocks, test_quads};
+use super::mt_block::LaneTest;
 use super::node::{self, Child, WideNode};
 use super::quad_block::QuadBlock;
 use super::tri_block::{LaneValues, RayTri, TriBlock};
@@ -160,6 +161,8 @@ pub(super) const BLOCKS: u8 = 0;
 pub(super) const COMPACT: u8 = 1;
 /// Triangle blocks and blocks of pairs ([`node::QUADS`]).
 pub(super) const PAIRS: u8 = 2;
+/// Moller-Trumbore blocks (`mt_block.rs`), and called-back primitives.
+pub(super) const MOLLER: u8 = 3;
 
 /// Which traversal a tree's rays take, decided once at the build ([`Path::of`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -172,9 +175,12 @@ pub(super) enum Path {
     /// 8 wide on a CPU with AVX2, triangle blocks (and called-back primitives) only...
     #[cfg(target_arch = "x86_64")]
     Avx2Blocks,
-    /// ...or with blocks of pairs too.
+    /// ...or with blocks of pairs too...
     #[cfg(target_arch = "x86_64")]
     Avx2Pairs,
+    /// ...or Moller-Trumbore blocks.
+    #[cfg(target_arch = "x86_64")]
+    Avx2Moller,
     /// SSE (or scalar) node tests: 4 wide, or no AVX2.
     Sized,
 }
@@ -189,7 +195,9 @@ impl Path {
         }
         #[cfg(target_arch = "x86_64")]
         if W == 8 && crate::accel::has_avx2() {
-            return if tree.quads.is_empty() {
+            return if tree.test == LaneTest::Moller {
+                Path::Avx2Moller
+            } else if tree.quads.is_empty() {
                 Path::Avx2Blocks
             } else {
                 Path::Avx2Pairs
@@ -232,6 +240,10 @@ impl<const W: usize> WideBvh<W> {
             #[cfg(target_arch = "x86_64")]
             Path::Avx2Pairs => unsafe {
                 self.traverse_avx2::<P, ANY, PAIRS>(prims, ray, t_max, stats)
+            },
+            #[cfg(target_arch = "x86_64")]
+            Path::Avx2Moller => unsafe {
+                self.traverse_avx2::<P, ANY, MOLLER>(prims, ray, t_max, stats)
             },
             Path::Sized => self.traverse_sized::<P, ANY, false>(prims, ray, t_max, stats),
         }
@@ -291,6 +303,10 @@ impl<const W: usize> WideBvh<W> {
             self.leaf::<P, ANY, false, COMPACT>(
                 leaf, &mut None, prims, ray, &mut t_max, &mut best, stats,
             );
+        } else if self.test == LaneTest::Moller {
+            self.leaf::<P, ANY, false, MOLLER>(
+                leaf, &mut None, prims, ray, &mut t_max, &mut best, stats,
+            );
         } else {
             self.leaf::<P, ANY, false, PAIRS>(
                 leaf, &mut None, prims, ray, &mut t_max, &mut best, stats,
@@ -328,6 +344,10 @@ impl<const W: usize> WideBvh<W> {
             return;
         }
         let blocks = &self.blocks[first..first + count.div_ceil(4)];
+        if LEAVES == MOLLER && leaf & node::NO_TRIANGLES == 0 {
+            test_moller_blocks::<P, ANY, AVX>(blocks, count, prims, ray, t_max, best, stats);
+            return;
+        }
         if leaf & node::NO_TRIANGLES == 0 {
             let rt = rt.get_or_insert_with(|| RayTri::new(ray));
             test_blocks::<P, ANY, AVX>(blocks, count, rt, prims, ray, t_max, best, stats);
@@ -374,7 +394,8 @@ impl<const W: usize> WideBvh<W> {
             let step = if AVX && at + 1 < ids.len() { 2 } else { 1 };
             let n = (count - 4 * at).min(4 * step);
             for (b, lanes) in ids[at..at + step].iter().enumerate() {
-                buf[b] = TriBlock::gather(prims, &lanes[..(n - 4 * b).min(4)]);
+                buf[b] =
+                    TriBlock::gather(prims, LaneTest::Watertight, &lanes[..(n - 4 * b).min(4)]);
             }
             #[cfg(target_arch = "x86_64")]
             let mut m = if step == 2 {
@@ -441,7 +462,9 @@ impl<const W: usize> WideBvh<W> {
         t_max: f32,
         stats: &mut TraversalStats,
     ) -> Option<Hit> {
-        if self.quads.is_empty() {
+        if self.test == LaneTest::Moller {
+            self.traverse_sized_as::<P, ANY, AVX, MOLLER>(prims, ray, t_max, stats)
+        } else if self.quads.is_empty() {
             self.traverse_sized_as::<P, ANY, AVX, BLOCKS>(prims, ray, t_max, stats)
         } else {
             self.traverse_sized_as::<P, ANY, AVX, PAIRS>(prims, ray, t_max, stats)
@@ -480,6 +503,9 @@ impl<const W: usize> WideBvh<W> {
         debug_assert!(stack_need::<W>(self.depth) <= 1024);
         if self.compact() {
             return self.traverse_with::<P, ANY, AVX, COMPACT, 1024>(prims, ray, t_max, stats);
+        }
+        if self.test == LaneTest::Moller {
+            return self.traverse_with::<P, ANY, AVX, MOLLER, 1024>(prims, ray, t_max, stats);
         }
         self.traverse_with::<P, ANY, AVX, PAIRS, 1024>(prims, ray, t_max, stats)
     }

@@ -8,6 +8,7 @@
 //! outside its loosened range. Every surviving lane is decided by the scalar function itself, so a
 //! block reports exactly the hits that testing its triangles one by one reports, bit for bit.
 
+use super::mt_block::LaneTest;
 #[cfg(target_arch = "x86_64")]
 use super::simd;
 use crate::accel::Primitives;
@@ -18,7 +19,8 @@ use crate::geometry::PrimHit;
 use crate::math::{Ray, Vec3};
 use std::mem::MaybeUninit;
 
-/// Four triangles (`v[3 * k + axis]` is coordinate `axis` of vertex `k`, one lane per triangle)
+/// Four triangles (`v[3 * k + axis]` is coordinate `axis` of vertex `k`, one lane per triangle;
+/// in a tree of Moller-Trumbore blocks, of the first vertex and the two edges, `mt_block.rs`)
 /// and their primitive ids. Lanes of other primitives have NaN vertices and are called back; a
 /// leaf's last block repeats its lane 0 in its unused lanes, which traversal masks off by the
 /// leaf's primitive count.
@@ -59,12 +61,12 @@ impl TriBlock {
         b
     }
 
-    /// The block of up to four primitives `ids`, asking `prims` for their vertices (no allocation:
+    /// The block of up to four primitives `ids`, asking `prims` for their lanes of kind `test` (no allocation:
     /// builders call this once per block of millions).
-    pub fn gather<P: Primitives>(prims: &P, ids: &[u32]) -> Self {
+    pub(crate) fn gather<P: Primitives>(prims: &P, test: LaneTest, ids: &[u32]) -> Self {
         let mut lanes = [(0u32, None); 4];
         for (lane, &id) in lanes.iter_mut().zip(ids) {
-            *lane = (id, prims.watertight_triangle(id as usize));
+            *lane = (id, test.lane(prims, id as usize));
         }
         Self::new(&lanes[..ids.len()])
     }
