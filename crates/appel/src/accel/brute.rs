@@ -70,29 +70,5 @@ impl Structure for Brute {
         Brute::build(prims)
     }
 
-    #[inline]
-    fn intersect<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> Option<Hit> {
-        Brute::intersect(self, prims, ray, t_max, stats)
-    }
-
-    #[inline]
-    fn occluded<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> bool {
-        Brute::occluded(self, prims, ray, t_max, stats)
-    }
-
-    fn stats(&self) -> AccelStats {
-        Brute::stats(self)
-    }
+    super::structure::forward_queries!(Brute);
 }

@@ -160,3 +160,37 @@ pub const fn same_name(a: &str, b: &str) -> bool {
     }
     true
 }
+
+/// The query methods of a [`Structure`] impl whose type answers them with inherent methods of the
+/// same names (each structure keeps its traversal in its own folder); written once here so that
+/// every impl forwards them alike, inlined so the per-ray match in [`super::Accel`] stays static.
+macro_rules! forward_queries {
+    ($ty:ty) => {
+        #[inline]
+        fn intersect<P: $crate::accel::Primitives>(
+            &self,
+            prims: &P,
+            ray: &$crate::math::Ray,
+            t_max: f32,
+            stats: &mut $crate::accel::TraversalStats,
+        ) -> Option<$crate::accel::Hit> {
+            <$ty>::intersect(self, prims, ray, t_max, stats)
+        }
+
+        #[inline]
+        fn occluded<P: $crate::accel::Primitives>(
+            &self,
+            prims: &P,
+            ray: &$crate::math::Ray,
+            t_max: f32,
+            stats: &mut $crate::accel::TraversalStats,
+        ) -> bool {
+            <$ty>::occluded(self, prims, ray, t_max, stats)
+        }
+
+        fn stats(&self) -> $crate::accel::AccelStats {
+            <$ty>::stats(self)
+        }
+    };
+}
+pub(crate) use forward_queries;

@@ -212,29 +212,5 @@ impl Structure for Bsp {
         Bsp::build_with(prims, *options)
     }
 
-    #[inline]
-    fn intersect<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> Option<Hit> {
-        Bsp::intersect(self, prims, ray, t_max, stats)
-    }
-
-    #[inline]
-    fn occluded<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> bool {
-        Bsp::occluded(self, prims, ray, t_max, stats)
-    }
-
-    fn stats(&self) -> AccelStats {
-        Bsp::stats(self)
-    }
+    crate::accel::structure::forward_queries!(Bsp);
 }

@@ -284,31 +284,7 @@ impl Structure for Bvh {
         Bvh::build_with(prims, options)
     }
 
-    #[inline]
-    fn intersect<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> Option<Hit> {
-        Bvh::intersect(self, prims, ray, t_max, stats)
-    }
-
-    #[inline]
-    fn occluded<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> bool {
-        Bvh::occluded(self, prims, ray, t_max, stats)
-    }
-
-    fn stats(&self) -> AccelStats {
-        Bvh::stats(self)
-    }
+    crate::accel::structure::forward_queries!(Bvh);
 
     fn has_packets(&self) -> bool {
         Bvh::has_packets(self)

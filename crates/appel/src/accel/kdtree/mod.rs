@@ -230,29 +230,5 @@ impl Structure for KdTree {
         KdTree::build_with(prims, *options)
     }
 
-    #[inline]
-    fn intersect<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> Option<Hit> {
-        KdTree::intersect(self, prims, ray, t_max, stats)
-    }
-
-    #[inline]
-    fn occluded<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> bool {
-        KdTree::occluded(self, prims, ray, t_max, stats)
-    }
-
-    fn stats(&self) -> AccelStats {
-        KdTree::stats(self)
-    }
+    crate::accel::structure::forward_queries!(KdTree);
 }

@@ -190,29 +190,5 @@ impl Structure for Octree {
         Octree::build_with(prims, *options)
     }
 
-    #[inline]
-    fn intersect<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> Option<Hit> {
-        Octree::intersect(self, prims, ray, t_max, stats)
-    }
-
-    #[inline]
-    fn occluded<P: Primitives>(
-        &self,
-        prims: &P,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut TraversalStats,
-    ) -> bool {
-        Octree::occluded(self, prims, ray, t_max, stats)
-    }
-
-    fn stats(&self) -> AccelStats {
-        Octree::stats(self)
-    }
+    crate::accel::structure::forward_queries!(Octree);
 }
