@@ -201,4 +201,8 @@ fn both_triangle_tests_agree_with_their_embree_pairing() {
         }
     }
     check_pairings(&embree, bench_scene("uniform", 20_000, 160, 120).unwrap());
+    check_pairings(
+        &embree,
+        bench_scene("teapot-in-stadium", 20_000, 160, 120).unwrap(),
+    );
 }

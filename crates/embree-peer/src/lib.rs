@@ -262,18 +262,26 @@ pub struct TriangleScene<'a> {
 unsafe impl Send for TriangleScene<'_> {}
 unsafe impl Sync for TriangleScene<'_> {}
 
+/// Where every ray given to Embree starts. Appel's rays hold `t` in `(0, t_max]`: a hit at exactly
+/// 0, which a ray leaving a surface can compute exactly (a field at y = 0), is not a hit. Embree's
+/// interval is `[tnear, tfar]`, and its robust mode reports such hits at `t = 0`; the smallest
+/// positive normal float closes that end as Appel does for any `t` a ray can reach (a subnormal
+/// would be read as zero under the flush-to-zero mode Embree asks for).
+const T_NEAR: f32 = f32::MIN_POSITIVE;
+
 impl TriangleScene<'_> {
     fn ray(origin: [f32; 3], dir: [f32; 3], t_max: f32) -> ffi::Ray1 {
         ffi::Ray1 {
             org: origin,
             dir,
+            tnear: T_NEAR,
             tfar: t_max,
             mask: u32::MAX,
             ..Default::default()
         }
     }
 
-    /// Closest hit with `t` in `[0, t_max]` (`rtcIntersect1`).
+    /// Closest hit with `t` in `(0, t_max]` (`rtcIntersect1`).
     #[inline]
     pub fn intersect(&self, origin: [f32; 3], dir: [f32; 3], t_max: f32) -> Option<EmbreeHit> {
         let mut ctx = ffi::IntersectContext::new(false);
@@ -294,7 +302,7 @@ impl TriangleScene<'_> {
         })
     }
 
-    /// Whether anything lies on the ray with `t` in `[0, t_max]` (`rtcOccluded1`).
+    /// Whether anything lies on the ray with `t` in `(0, t_max]` (`rtcOccluded1`).
     #[inline]
     pub fn occluded(&self, origin: [f32; 3], dir: [f32; 3], t_max: f32) -> bool {
         let mut ctx = ffi::IntersectContext::new(false);
@@ -309,6 +317,7 @@ impl TriangleScene<'_> {
     pub fn intersect8(&self, rays: &[([f32; 3], [f32; 3])], out: &mut [Option<EmbreeHit>]) {
         assert!(rays.len() <= 8 && out.len() >= rays.len());
         let mut p = ffi::RayHit8 {
+            tnear: [T_NEAR; 8],
             tfar: [f32::INFINITY; 8],
             mask: [u32::MAX; 8],
             geom_id: [ffi::INVALID_GEOMETRY_ID; 8],
