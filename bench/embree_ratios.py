@@ -7,7 +7,7 @@ default, each ratio taken within one run (the `vs_embree` of each bvh row). On a
 speed swings from run to run, one run's ratio says little: this runs it `--repeat` times per
 target (alternating the binaries given to `--appel`, so that a before/after pair sees the same
 conditions) and prints, per target, binary and pairing, the median and range of Appel / Embree for
-camera, incoherent and shadow rays (1 thread), camera-ray packets of 8 against `rtcIntersect8`, and
+camera, incoherent, shadow and path-bounce rays (1 thread), camera-ray packets of 8 against `rtcIntersect8`, and
 the build time, with the bytes per triangle of both.
 
     python3 bench/embree_ratios.py ../shared/data/common-3d-test-models/stanford-bunny.obj.gz \\
@@ -28,6 +28,7 @@ COLUMNS = [
     ("camera", "camera_1t"),
     ("incoherent", "incoherent_1t"),
     ("shadow", "shadow_1t"),
+    ("path bounces", "path_1t"),
     ("packets / rtcIntersect8", "packet8_1t"),
     ("build", "build"),
 ]

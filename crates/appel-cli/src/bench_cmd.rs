@@ -141,23 +141,25 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let rays = BenchRays::new(&target);
     if !args.json {
         println!(
-            "{}: {} triangles, {} primitives, {}x{} camera rays, {} incoherent, {} shadow",
+            "{}: {} triangles, {} primitives, {}x{} camera rays, {} incoherent, {} shadow, {} path",
             target.name,
             target.geometry.triangle_count(),
             target.geometry.prims.len(),
             w,
             h,
             rays.incoherent.len(),
-            rays.shadow.len()
+            rays.shadow.len(),
+            rays.path.len()
         );
         println!(
-            "{:<13} {:>9} {:>12} {:>19} {:>19} {:>19} {:>13} {:>13}",
+            "{:<13} {:>9} {:>12} {:>19} {:>19} {:>19} {:>19} {:>13} {:>13}",
             "accel",
             "build ms",
             "bytes",
             "camera 1t/Nt",
             "incoherent 1t/Nt",
             "shadow 1t/Nt",
+            "path 1t/Nt",
             "nodes cam/inc",
             "tests cam/inc"
         );
@@ -202,7 +204,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
         }
     }
     if !args.json {
-        println!("Mrays/s with 1 thread / {} threads; closest hit for camera and incoherent rays, any hit for shadow rays", rayon_threads(threads));
+        println!(
+            "Mrays/s with 1 thread / {} threads; closest hit for camera, incoherent (one bounce) and path rays \
+             (bounces 2 to 4 of diffuse paths), any hit for shadow rays",
+            rayon_threads(threads)
+        );
         for n in notes {
             println!("{n}");
         }
@@ -263,13 +269,14 @@ fn print_ratios(r: &BenchResult) {
         _ => String::new(),
     };
     println!(
-        "{:<13} {:>8.2}x {:>12} {:>19} {:>19} {:>19}   ({} / {}{packets})",
+        "{:<13} {:>8.2}x {:>12} {:>19} {:>19} {:>19} {:>19}   ({} / {}{packets})",
         "  ratio",
         v.build,
         "",
         pair(v.camera_1t, v.camera),
         pair(v.incoherent_1t, v.incoherent),
         pair(v.shadow_1t, v.shadow),
+        pair(v.path_1t, v.path),
         r.accel,
         v.peer,
     );
@@ -311,13 +318,14 @@ fn print_result(r: &BenchResult, json: bool) -> Result<()> {
         }
     };
     println!(
-        "{:<13} {:>9.1} {:>12} {:>19} {:>19} {:>19} {:>13} {:>13}",
+        "{:<13} {:>9.1} {:>12} {:>19} {:>19} {:>19} {:>19} {:>13} {:>13}",
         r.accel,
         r.build_ms,
         r.bytes,
         pair(r.primary_mrays_1t, r.primary_mrays),
         pair(r.incoherent_mrays_1t, r.incoherent_mrays),
         pair(r.shadow_mrays_1t, r.shadow_mrays),
+        pair(r.path_mrays_1t, r.path_mrays),
         counts(r.nodes_per_ray, r.incoherent_nodes_per_ray),
         counts(r.tests_per_ray, r.incoherent_tests_per_ray),
     );

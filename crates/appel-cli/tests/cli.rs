@@ -573,6 +573,7 @@ fn bench_embree_row_measures_embree_on_the_same_rays() {
             "primary_mrays",
             "incoherent_mrays",
             "shadow_mrays",
+            "path_mrays",
             "packet8_mrays",
         ] {
             assert!(embree[key].as_f64().unwrap() > 0.0, "{key}: {embree}");
@@ -585,6 +586,7 @@ fn bench_embree_row_measures_embree_on_the_same_rays() {
         for (ratio, key) in [
             ("camera_1t", "primary_mrays_1t"),
             ("shadow", "shadow_mrays"),
+            ("path_1t", "path_mrays_1t"),
             ("build", "build_ms"),
         ] {
             let want = bvh[key].as_f64().unwrap() / embree[key].as_f64().unwrap();

@@ -4,9 +4,11 @@
 
 mod embree;
 mod pairing;
+mod path_rays;
 pub mod rss;
 pub use embree::{bench_embree, flat_triangles, EmbreeBenchOptions, FlatTriangles};
 pub use pairing::{bench_pairings, embree_robust_for, Pairing};
+pub use path_rays::path_rays;
 
 use crate::accel::{Accel, AccelKind, AccelOptions, TraversalStats};
 use crate::geometry::procedural::{append, icosphere, scattered_triangles, stadium, SplitMix64};
@@ -113,6 +115,10 @@ pub struct BenchResult {
     /// Any-hit Mrays/s on shadow rays (camera hit to a point light), with all `threads` and with one.
     pub shadow_mrays: f64,
     pub shadow_mrays_1t: f64,
+    /// Closest-hit Mrays/s on the rays of a diffuse path's deeper bounces ([`path_rays`]), with all
+    /// `threads` and with one.
+    pub path_mrays: f64,
+    pub path_mrays_1t: f64,
     /// Camera rays traced as packets of eight (a peer's packet mode), all `threads` and one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub packet8_mrays: Option<f64>,
@@ -130,6 +136,7 @@ pub struct BenchResult {
     pub rays_primary: usize,
     pub rays_incoherent: usize,
     pub rays_shadow: usize,
+    pub rays_path: usize,
     /// Mean nodes (or cells) visited and primitive tests per camera ray.
     pub nodes_per_ray: f64,
     pub tests_per_ray: f64,
@@ -153,6 +160,8 @@ pub struct PeerRatios {
     pub camera: f64,
     pub incoherent: f64,
     pub shadow: f64,
+    pub path_1t: f64,
+    pub path: f64,
     /// Camera-ray packets of eight against the peer's (BVH only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub packet8_1t: Option<f64>,
@@ -173,6 +182,8 @@ impl PeerRatios {
             camera: r(ours.primary_mrays, peer.primary_mrays),
             incoherent: r(ours.incoherent_mrays, peer.incoherent_mrays),
             shadow: r(ours.shadow_mrays, peer.shadow_mrays),
+            path_1t: r(ours.path_mrays_1t, peer.path_mrays_1t),
+            path: r(ours.path_mrays, peer.path_mrays),
             packet8_1t: opt(ours.packet8_mrays_1t, peer.packet8_mrays_1t),
             packet8: opt(ours.packet8_mrays, peer.packet8_mrays),
             build: r(ours.build_ms, peer.build_ms),
@@ -264,20 +275,23 @@ pub struct BenchRays {
     pub primary: Vec<Ray>,
     pub incoherent: Vec<Ray>,
     pub shadow: Vec<ShadowRay>,
+    pub path: Vec<Ray>,
 }
 
 impl BenchRays {
-    /// Camera rays, and the incoherent and shadow rays that leave their hits, found with the
+    /// Camera rays, and the incoherent, shadow and path rays that leave their hits, found with the
     /// default structure.
     pub fn new(target: &BenchTarget) -> Self {
         let accel = Accel::build(AccelKind::default(), &target.geometry);
         let primary = camera_rays(&target.camera);
         let incoherent = incoherent_rays(target, &accel, &primary);
         let shadow = shadow_rays(target, &accel, &primary);
+        let path = path_rays(target, &accel, &primary);
         Self {
             primary,
             incoherent,
             shadow,
+            path,
         }
     }
 }
@@ -352,6 +366,7 @@ pub fn bench_accel(
     };
     let primary = subset(&rays.primary);
     let incoherent = subset(&rays.incoherent);
+    let path = subset(&rays.path);
     let shadow: Vec<ShadowRay> = {
         let stride = rays.shadow.len().div_ceil(budget).max(1);
         rays.shadow.iter().step_by(stride).copied().collect()
@@ -435,6 +450,8 @@ pub fn bench_accel(
         incoherent_mrays_1t: throughput(&one, &incoherent, 1, runs, closest),
         shadow_mrays: throughput(&all, &shadow, 1, runs, any),
         shadow_mrays_1t: throughput(&one, &shadow, 1, runs, any),
+        path_mrays: throughput(&all, &path, 1, runs, closest),
+        path_mrays_1t: throughput(&one, &path, 1, runs, closest),
         packet8_mrays: packet_rate(&all),
         packet8_mrays_1t: packet_rate(&one),
         packet8_mismatches: mismatches,
@@ -443,6 +460,7 @@ pub fn bench_accel(
         rays_primary: primary.len(),
         rays_incoherent: incoherent.len(),
         rays_shadow: shadow.len(),
+        rays_path: path.len(),
         nodes_per_ray,
         tests_per_ray,
         incoherent_nodes_per_ray,

@@ -119,6 +119,8 @@ pub fn bench_embree(
         incoherent_mrays_1t: throughput(&one, &rays.incoherent, 1, runs, closest),
         shadow_mrays: throughput(&all, &rays.shadow, 1, runs, any),
         shadow_mrays_1t: throughput(&one, &rays.shadow, 1, runs, any),
+        path_mrays: throughput(&all, &rays.path, 1, runs, closest),
+        path_mrays_1t: throughput(&one, &rays.path, 1, runs, closest),
         // Packets of eight, but the last may be short: count the rays, not 8 per packet.
         packet8_mrays: Some(
             throughput(&all, &packets, 8, runs, packet8) * rays.primary.len() as f64
@@ -134,6 +136,7 @@ pub fn bench_embree(
         rays_primary: rays.primary.len(),
         rays_incoherent: rays.incoherent.len(),
         rays_shadow: rays.shadow.len(),
+        rays_path: rays.path.len(),
         nodes_per_ray: 0.0,
         tests_per_ray: 0.0,
         incoherent_nodes_per_ray: 0.0,
