@@ -3,7 +3,8 @@
 //! code; the conventions (parameterisation, normals, uv) are Mitsuba 3's shapes'.
 
 use super::distribution::Distribution1D;
-use super::warp::{square_to_disk_concentric, square_to_sphere, square_to_triangle};
+use super::warp::{square_to_sphere, square_to_triangle};
+use crate::shading::bsdf::warp::square_to_uniform_disk_concentric;
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -178,7 +179,7 @@ impl ShapeSampler {
                 }
             }
             ShapeSampler::Disk { to_world } => {
-                let d = square_to_disk_concentric(u);
+                let d = square_to_uniform_disk_concentric(u);
                 let mut phi = d.y.atan2(d.x);
                 if phi < 0.0 {
                     phi += 2.0 * PI;

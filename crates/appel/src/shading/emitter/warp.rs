@@ -1,23 +1,9 @@
 //! Warps of the unit square onto the shapes that lights are sampled on, each with a constant
-//! density (pbrt-v4 section A.5; Shirley and Chiu 1997 for the concentric disk).
+//! density (pbrt-v4 section A.5). Disks use the BSDFs' concentric map
+//! ([`crate::shading::bsdf::warp::square_to_uniform_disk_concentric`]).
 
 use glam::{Vec2, Vec3};
-use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
-
-/// Shirley and Chiu's concentric map of [0, 1]² onto the unit disk: area preserving, and little
-/// distortion, so that stratified samples stay stratified.
-pub fn square_to_disk_concentric(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o.x == 0.0 && o.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, FRAC_PI_4 * (o.y / o.x))
-    } else {
-        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
-    };
-    r * Vec2::new(theta.cos(), theta.sin())
-}
+use std::f32::consts::PI;
 
 /// Uniform directions on the unit sphere: z uniform in [-1, 1], the azimuth uniform. Density 1 / 4π.
 pub fn square_to_sphere(u: Vec2) -> Vec3 {
