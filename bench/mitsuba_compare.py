@@ -14,7 +14,11 @@ since a variant and a thread count are set once per process. Not run in CI: it n
 (`pip install mitsuba`), the release binary and minutes of CPU.
 
     nice -n 5 cargo build --release
-    python3 bench/mitsuba_compare.py [--threads 2,1] [--repeat 3] [--quick]
+    python3 bench/mitsuba_compare.py [--threads 2,1] [--repeat 3] [--quick] [--sampler multijitter]
+
+`--sampler` renders the Cornell box with another sampler than its file's `independent`, in both
+renderers: Mitsuba's own (`multijitter`, `stratified`, `ldsampler`), which Appel reads as its
+Owen-scrambled Sobol sampler. The sphere scene keeps its own (set in an included fragment).
 """
 
 import argparse
@@ -166,6 +170,20 @@ def med(xs):
 # ---------------------------------------------------------------------------------------------
 
 
+def with_sampler(scene, sampler, tmp):
+    """A copy of `scene` in `tmp` whose sampler plugin is `sampler` (the Cornell box refers to no
+    other file, so the copy renders the same scene)."""
+    with open(scene) as f:
+        text = f.read()
+    text, n = re.subn(r'<sampler type="[a-z]+"', f'<sampler type="{sampler}"', text)
+    if n != 1:
+        sys.exit(f"{scene}: expected one <sampler> element, found {n}")
+    out = os.path.join(tmp, f"{sampler}-{os.path.basename(scene)}")
+    with open(out, "w") as f:
+        f.write(text)
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--threads", default="2,1", help="thread counts, comma-separated")
@@ -173,6 +191,8 @@ def main():
     ap.add_argument("--equal-time-threads", type=int, default=2,
                     help="thread count of the equal-time error comparison (0: skip it)")
     ap.add_argument("--quick", action="store_true", help="a tenth of the samples and budgets")
+    ap.add_argument("--sampler", choices=["independent", "multijitter", "stratified", "ldsampler"],
+                    help="the Cornell box's sampler in both renderers (default: the file's)")
     ap.add_argument("--mitsuba-worker", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.mitsuba_worker:
@@ -186,9 +206,11 @@ def main():
     threads = [int(t) for t in args.threads.split(",")]
     scale = 0.1 if args.quick else 1.0
     tmp = tempfile.mkdtemp(prefix="appel-mitsuba-")
+    scenes = [(name, with_sampler(scene, args.sampler, tmp) if args.sampler and scene == CORNELL
+               else scene, *rest) for name, scene, *rest in SCENES]
     rows = []
     sps = {}
-    for name, scene, ref, size, spp, ref_size, budget, res_param in SCENES:
+    for name, scene, ref, size, spp, ref_size, budget, res_param in scenes:
         spp = max(1, int(spp * scale))
         max_depth = None if res_param else 2
         for t in threads:
@@ -217,7 +239,7 @@ def main():
     print(f"Error at equal time ({t} threads; median of {args.repeat} renders; Mitsuba with different seeds)")
     print(f"{'scene':<22} {'budget s':>8} {'renderer':>11} {'spp':>5} {'time s':>7} {'RMSE':>10} "
           f"{'relMSE':>10}")
-    for name, scene, ref, size, spp, ref_size, budget, res_param in SCENES:
+    for name, scene, ref, size, spp, ref_size, budget, res_param in scenes:
         budget *= scale
         max_depth = None if res_param else 2
         rates = sps.get((name, t))
