@@ -99,6 +99,9 @@ pub(super) fn add_mesh_file(
         let count = part.mesh.triangle_count() as u32;
         let emits = part_emission(part.material);
         let shape = geometry.push_mesh(part.mesh, id);
+        if let Some(t) = part.tangents {
+            geometry.set_mesh_tangents(geometry.meshes.len() as u32 - 1, t);
+        }
         if let Some(e) = emits {
             extras.emission.push((shape, e));
         }
@@ -125,6 +128,9 @@ pub(super) fn add_mesh_file(
             }
             let count = part.mesh.triangle_count() as u32;
             let shape = g.push_mesh(part.mesh, part_material(part.material));
+            if let Some(t) = part.tangents {
+                g.set_mesh_tangents(g.meshes.len() as u32 - 1, t);
+            }
             g.shapes[shape as usize].source.first_prim = first_prim;
             first_prim += count;
         }
