@@ -337,3 +337,31 @@ fn malformed_tangent_accessors_are_errors_naming_the_file() {
         );
     }
 }
+
+/// FlightHelmet (in the shared data) gives every primitive tangents: they load, one per vertex,
+/// unit length with handedness +1 or -1, as the specification requires of them.
+#[test]
+fn flight_helmet_s_tangents_load() {
+    let path = std::path::PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/gltf-models/FlightHelmet/glTF/FlightHelmet.gltf"
+    ));
+    if !path.exists() {
+        eprintln!("skipped: {} not found", path.display());
+        return;
+    }
+    let m = appel::io::load_mesh(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(!m.parts.is_empty());
+    let (mut mirrored, mut total) = (0, 0);
+    for part in &m.parts {
+        let t = part.tangents.as_ref().expect("tangents");
+        assert_eq!(t.len(), part.mesh.positions.len());
+        for t in t {
+            assert!((t.truncate().length() - 1.0).abs() < 1e-3, "{t}");
+            assert!(t.w == 1.0 || t.w == -1.0, "{t}");
+            mirrored += (t.w < 0.0) as usize;
+            total += 1;
+        }
+    }
+    eprintln!("FlightHelmet: {total} tangents, {mirrored} with w = -1");
+}

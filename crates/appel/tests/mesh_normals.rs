@@ -199,7 +199,10 @@ fn appel_mesh_shapes_are_faceted_unless_smooth_normals_asks() {
             "{TOML_HEAD}[[shape]]\ntype = \"mesh\"\nfile = \"sphere.ply\"\nsmooth_normals = true\nface_normals = true\n"
         ),
     );
-    let e = load_description(&path).err().expect("accepted").to_string();
+    let Err(e) = load_description(&path) else {
+        panic!("smooth_normals with face_normals accepted");
+    };
+    let e = e.to_string();
     assert!(
         e.contains("scene.toml:") && e.contains("smooth_normals"),
         "{e}"
