@@ -132,6 +132,7 @@ pub(crate) fn local_interaction(p: DVec3, flip: bool) -> SurfaceInteraction {
         uv: Vec2::new((phi / TAU) as f32, p.z as f32),
         dpdu: (TAU * DVec3::new(-p.y, p.x, 0.0)).as_vec3(),
         dpdv: Vec3::Z,
+        tangent: None,
     }
 }
 

@@ -100,6 +100,16 @@ impl InstanceTransform {
             uv: si.uv,
             dpdu: linear * si.dpdu,
             dpdv: linear * si.dpdv,
+            tangent: si.tangent.map(|t| super::FileTangent {
+                dir: linear * t.dir,
+                // A mirroring transform turns the bitangent the other way round relative to
+                // n x s (cross(Ma, Mb) = det(M) M^-T (a x b)).
+                sign: if linear.determinant() < 0.0 {
+                    -t.sign
+                } else {
+                    t.sign
+                },
+            }),
         }
     }
 
@@ -172,6 +182,7 @@ mod tests {
             uv: glam::Vec2::ZERO,
             dpdu: Vec3::ZERO,
             dpdv: Vec3::ZERO,
+            tangent: None,
         };
         let w = x.interaction_to_world(&si);
         let tangent = x.to_world.transform_vector3(Vec3::new(1.0, -1.0, 0.0));

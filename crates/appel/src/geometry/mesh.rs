@@ -105,6 +105,7 @@ impl TriangleMesh {
             uv,
             dpdu,
             dpdv,
+            tangent: None,
         }
     }
 }

@@ -4,6 +4,7 @@
 //! [`SurfaceInteraction`] is computed once, for the final hit only.
 
 mod cylinder;
+mod file_tangent;
 pub mod implicit;
 mod instance_transform;
 mod mesh;
@@ -18,6 +19,7 @@ mod transform;
 pub mod triangle;
 
 pub use cylinder::Cylinder;
+pub use file_tangent::FileTangent;
 pub use implicit::Implicit;
 pub use instance_transform::InstanceTransform;
 pub use mesh::TriangleMesh;
@@ -70,10 +72,30 @@ pub struct SurfaceInteraction {
     /// Surface coordinates used by textures.
     pub uv: Vec2,
     /// The surface's derivative along `u` (not normalized; zero where a surface has no
-    /// parametrization). The shading frame's tangent follows it, as Mitsuba 3's
+    /// parametrization). The shading frame's tangent follows it (unless the file gives
+    /// `tangent`), as Mitsuba 3's
     /// `SurfaceInteraction::initialize_sh_frame` does, so anisotropic BSDFs and normal maps are
     /// oriented by the texture coordinates.
     pub dpdu: Vec3,
     /// The derivative along `v` (zero where `dpdu` is), which bump maps need.
     pub dpdv: Vec3,
+    /// The tangent frame a mesh file gives at the point (glTF's `TANGENT`), which then orients
+    /// the shading frame instead of `dpdu`; `None` elsewhere.
+    pub tangent: Option<FileTangent>,
+}
+
+impl SurfaceInteraction {
+    /// The direction the shading frame's tangent follows: the file's tangent where it gives one,
+    /// else dp/du.
+    #[inline]
+    pub fn shading_tangent(&self) -> Vec3 {
+        self.tangent.map_or(self.dpdu, |t| t.dir)
+    }
+
+    /// The side of `ns × s` tangent-space y (a normal map's green channel) runs on: the file's
+    /// handedness where it gives tangents, else +1 (the bitangent `ns × dp/du`).
+    #[inline]
+    pub fn bitangent_sign(&self) -> f32 {
+        self.tangent.map_or(1.0, |t| t.sign)
+    }
 }

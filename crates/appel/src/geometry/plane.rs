@@ -113,6 +113,7 @@ impl Plane {
             uv: Vec2::new(p.dot(self.tangent), p.dot(self.bitangent)),
             dpdu: self.tangent,
             dpdv: self.bitangent,
+            tangent: None,
         }
     }
 }

@@ -324,6 +324,7 @@ impl SdfGrid {
             uv: Vec2::ZERO,
             dpdu: Vec3::ZERO,
             dpdv: Vec3::ZERO,
+            tangent: None,
         };
         self.transform.interaction_to_world(&si)
     }

@@ -128,6 +128,7 @@ impl Sphere {
                     Vec3::ZERO
                 }
             },
+            tangent: None,
         }
     }
 }

@@ -149,6 +149,7 @@ impl Torus {
                 .as_vec3(),
             // Not needed by anything the torus is used with; no bump mapping across the tube.
             dpdv: Vec3::ZERO,
+            tangent: None,
         }
     }
 }

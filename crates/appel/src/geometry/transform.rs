@@ -73,6 +73,16 @@ impl ObjectTransform {
             uv: si.uv,
             dpdu: linear * si.dpdu,
             dpdv: linear * si.dpdv,
+            tangent: si.tangent.map(|t| super::FileTangent {
+                dir: linear * t.dir,
+                // A mirroring transform turns the bitangent the other way round relative to
+                // n x s (cross(Ma, Mb) = det(M) M^-T (a x b)).
+                sign: if linear.determinant() < 0.0 {
+                    -t.sign
+                } else {
+                    t.sign
+                },
+            }),
         }
     }
 }
@@ -112,6 +122,7 @@ mod tests {
             uv: glam::Vec2::ZERO,
             dpdu: Vec3::ZERO,
             dpdv: Vec3::ZERO,
+            tangent: None,
         };
         let w = x.interaction_to_world(&si);
         assert!(w.n.dot(Vec3::new(4.0, -1.0, 0.0)).abs() < 1e-6);

@@ -17,8 +17,8 @@
 
 use super::assets::Assets;
 use super::mesh_file::{
-    transform_mesh, AlphaMode, FileCamera, FileImage, FileMaterial, FileTexture, LoadedMesh,
-    MeshPart, PbrParams, SharedPlacement,
+    AlphaMode, FileCamera, FileImage, FileMaterial, FileTexture, LoadedMesh, MeshPart, PbrParams,
+    SharedPlacement,
 };
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
@@ -29,7 +29,7 @@ use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Gltf, Node};
 use base64::Engine;
-use glam::{Mat3, Mat4, Vec3 as GVec3};
+use glam::{Mat3, Mat4, Vec3 as GVec3, Vec4};
 use std::collections::HashMap;
 use std::path::Path;
 use std::path::PathBuf;
@@ -279,11 +279,12 @@ impl Ctx<'_> {
                         }
                         let what = format!("mesh {} primitive {}", mesh.index(), prim.index());
                         let material = self.material(&prim.material())?;
-                        let tm = self.primitive(&prim, &what, self.uv_set(material))?;
+                        let (tm, tangents) = self.primitive(&prim, &what, self.uv_set(material))?;
                         parts.push(MeshPart {
                             mesh: tm,
                             material,
                             file_triangles: None,
+                            tangents,
                         });
                     }
                     self.out.shared.push(parts);
@@ -309,23 +310,25 @@ impl Ctx<'_> {
                 }
                 let what = format!("mesh {} primitive {}", mesh.index(), prim.index());
                 let material = self.material(&prim.material())?;
-                let mut tm = self.primitive(&prim, &what, self.uv_set(material))?;
-                transform_mesh(&mut tm, world);
-                if !tm.positions.iter().all(|p| p.is_finite()) {
+                let (tm, tangents) = self.primitive(&prim, &what, self.uv_set(material))?;
+                let mut part = MeshPart {
+                    mesh: tm,
+                    material,
+                    file_triangles: None,
+                    tangents,
+                };
+                part.transform(world);
+                if !part.mesh.positions.iter().all(|p| p.is_finite()) {
                     return Err(
                         self.err(format!("{what}: a vertex position is not a finite number"))
                     );
                 }
                 // Parts number their triangles from where they stand in the file's order, which
                 // placements of shared meshes may interleave.
-                let count = tm.triangle_count() as u32;
-                let file_triangles = (self.triangles != self.out.parts_triangles())
+                let count = part.mesh.triangle_count() as u32;
+                part.file_triangles = (self.triangles != self.out.parts_triangles())
                     .then(|| (self.triangles..self.triangles + count).collect());
-                self.out.parts.push(MeshPart {
-                    mesh: tm,
-                    material,
-                    file_triangles,
-                });
+                self.out.parts.push(part);
                 self.triangles += count;
             }
         }
@@ -719,7 +722,13 @@ impl Ctx<'_> {
         }
     }
 
-    fn primitive(&self, prim: &::gltf::Primitive, what: &str, uv_set: u32) -> Result<TriangleMesh> {
+    /// The primitive's triangles, and its tangents where it has them (see [`Self::tangents`]).
+    fn primitive(
+        &self,
+        prim: &::gltf::Primitive,
+        what: &str,
+        uv_set: u32,
+    ) -> Result<(TriangleMesh, Option<Vec<Vec4>>)> {
         use DataType::{F32, U16, U32, U8};
         use Dimensions::Scalar;
         let (vec2, vec3) = (Dimensions::Vec2, Dimensions::Vec3);
@@ -781,12 +790,53 @@ impl Ctx<'_> {
             }
             None => (0..nv as u32).collect(),
         };
-        Ok(TriangleMesh {
+        let tangents = match &normals {
+            Some(_) => self.tangents(prim, what, nv)?,
+            // Without normals the specification asks for flat ones, and for the tangents to be
+            // ignored: the flat frame has no use for them.
+            None => None,
+        };
+        let mesh = TriangleMesh {
             positions,
             indices: flat.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
             normals,
             uvs,
-        })
+        };
+        Ok((mesh, tangents))
+    }
+
+    /// The primitive's `TANGENT` attribute, if it has one: VEC4 floats, one per vertex (the
+    /// specification's only form without `KHR_mesh_quantization`). Another element type or
+    /// count is an error naming the accessor, as are tangents that are not finite numbers.
+    fn tangents(
+        &self,
+        prim: &::gltf::Primitive,
+        what: &str,
+        nv: usize,
+    ) -> Result<Option<Vec<Vec4>>> {
+        let Some(a) = prim.get(&::gltf::Semantic::Tangents) else {
+            return Ok(None);
+        };
+        let what = format!("{what} TANGENT");
+        self.check(&a, &[(Dimensions::Vec4, DataType::F32)], &what)?;
+        if a.count() != nv {
+            return Err(self.err(format!(
+                "{what}: accessor {} has {} elements for {nv} vertices",
+                a.index(),
+                a.count()
+            )));
+        }
+        let buffers = self.buffers;
+        let reader = prim.reader(|b| buffers.get(b.index()).map(|v| v.as_slice()));
+        let tangents: Vec<Vec4> = reader
+            .read_tangents()
+            .ok_or_else(|| self.err(format!("{what}: cannot read it")))?
+            .map(Vec4::from)
+            .collect();
+        if let Some(i) = tangents.iter().position(|t| !t.is_finite()) {
+            return Err(self.err(format!("{what}: tangent {i} is not a finite number")));
+        }
+        Ok(Some(tangents))
     }
 }
 

@@ -7,7 +7,7 @@ use crate::geometry::TriangleMesh;
 use crate::math::{Aabb, Vec3};
 use crate::scene::description::{CameraDesc, LightDesc};
 use crate::shading::texture::{Filter, Wrap};
-use glam::{Mat3, Mat4};
+use glam::{Mat3, Mat4, Vec4};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -162,6 +162,33 @@ pub struct MeshPart {
     /// where a reader regrouped them (OBJ groups faces by material). `None`: the parts hold the
     /// file's triangles in order, one part after the other.
     pub file_triangles: Option<Vec<u32>>,
+    /// Per-vertex tangents the file gives (glTF `TANGENT`): xyz the tangent, w (+1 or -1) the
+    /// handedness of the bitangent `cross(normal, tangent) * w`; one per position.
+    pub tangents: Option<Vec<Vec4>>,
+}
+
+impl MeshPart {
+    /// Applies an affine transform to the part's mesh (see [`transform_mesh`]) and its tangents:
+    /// these are surface directions, carried by the linear part itself, and a mirroring transform
+    /// turns their handedness around (`cross(Ma, Mb) = det(M) M^-T (a x b)`).
+    pub fn transform(&mut self, m: Mat4) {
+        transform_mesh(&mut self.mesh, m);
+        if m == Mat4::IDENTITY {
+            return;
+        }
+        if let Some(ts) = &mut self.tangents {
+            let linear = Mat3::from_mat4(m);
+            let flip = if linear.determinant() < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            for t in ts {
+                let dir = (linear * t.truncate()).normalize_or_zero();
+                *t = dir.extend(flip * t.w);
+            }
+        }
+    }
 }
 
 /// Everything read from one mesh file.
@@ -261,7 +288,7 @@ impl LoadedMesh {
         for p in std::mem::take(&mut self.placements) {
             for part in &self.shared[p.mesh as usize] {
                 let mut part = part.clone();
-                transform_mesh(&mut part.mesh, p.to_world);
+                part.transform(p.to_world);
                 let n = part.mesh.triangle_count() as u32;
                 part.file_triangles = Some((p.first_triangle..p.first_triangle + n).collect());
                 self.parts.push(part);
@@ -275,7 +302,7 @@ impl LoadedMesh {
     /// part (so they stay perpendicular to the surface under non-uniform scaling), renormalised.
     pub fn transform(&mut self, m: Mat4) {
         for part in &mut self.parts {
-            transform_mesh(&mut part.mesh, m);
+            part.transform(m);
         }
         for p in &mut self.placements {
             p.to_world = m * p.to_world;

@@ -306,6 +306,7 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
                 mesh: p.mesh,
                 material: p.material,
                 file_triangles: (!single).then_some(p.file_triangles),
+                tangents: None,
             }
         })
         .collect();

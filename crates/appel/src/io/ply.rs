@@ -263,6 +263,7 @@ pub fn parse_ply(data: &[u8], path: &Path) -> Result<LoadedMesh> {
             mesh,
             material: None,
             file_triangles: None,
+            tangents: None,
         }],
         attributes,
         ..Default::default()

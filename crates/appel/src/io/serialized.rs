@@ -123,6 +123,7 @@ pub fn parse_serialized(bytes: &[u8], path: &Path) -> Result<LoadedMesh> {
             mesh,
             material: None,
             file_triangles: None,
+            tangents: None,
         }],
         ..Default::default()
     })

@@ -156,7 +156,7 @@ impl PathTracer {
             if depth + 1 >= self.max_depth {
                 break;
             }
-            let frame = ShadingFrame::from_normal_tangent(si.ns, si.dpdu);
+            let frame = ShadingFrame::from_normal_tangent(si.ns, si.shading_tangent());
             let at = SurfacePoint::new(&si, &frame, wo_world, scene.geometry.attributes_at(&h.hit));
             let wo = at.wo;
             let material = scene.geometry.material(&h.hit);

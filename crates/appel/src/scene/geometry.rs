@@ -3,8 +3,8 @@
 use super::instance::{Instance, Prototype};
 use crate::accel::{closest_of, test_primitive, Hit, Primitives, TraversalStats};
 use crate::geometry::{
-    triangle_box_overlap, Cylinder, Implicit, ObjectTransform, Plane, PrimHit, SdfGrid, Sphere,
-    SphereBlock, SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
+    triangle_box_overlap, Cylinder, FileTangent, Implicit, ObjectTransform, Plane, PrimHit,
+    SdfGrid, Sphere, SphereBlock, SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
 };
 use crate::io::mesh_file::MeshAttribute;
 use crate::math::{Aabb, Ray, RayF64, Vec3};
@@ -169,6 +169,9 @@ pub struct Geometry {
     /// Named per-vertex and per-triangle values of meshes (by index into `meshes`; shorter when
     /// the last meshes have none).
     pub mesh_attributes: Vec<Option<std::sync::Arc<Vec<MeshAttribute>>>>,
+    /// Per-vertex tangents (xyz, handedness in w) of meshes whose file gives them (glTF
+    /// `TANGENT`), by index into `meshes`; shorter when the last meshes have none.
+    pub mesh_tangents: Vec<Option<Vec<glam::Vec4>>>,
     pub implicits: Vec<Implicit>,
     /// Where each implicit surface sits in the world, if not at its formula's own coordinates.
     pub implicit_transforms: Vec<Option<ObjectTransform>>,
@@ -398,10 +401,17 @@ impl Geometry {
                 .sum::<usize>()
     }
 
-    /// Bytes of what the structures are built over: the meshes (the prototypes' too) and the
+    /// Bytes of what the structures are built over: the meshes (the prototypes' too, with their
+    /// tangents) and the
     /// primitive list; not the structures themselves (nor the prototypes'), which report their own.
     pub fn bytes(&self) -> usize {
         self.meshes.iter().map(TriangleMesh::bytes).sum::<usize>()
+            + self
+                .mesh_tangents
+                .iter()
+                .flatten()
+                .map(|t| std::mem::size_of_val(t.as_slice()))
+                .sum::<usize>()
             + self.prims.bytes()
             + self
                 .prototypes
@@ -533,6 +543,16 @@ impl Geometry {
         self.mesh_attributes[m] = Some(std::sync::Arc::new(attributes));
     }
 
+    /// Gives mesh `mesh` (an index into `meshes`) per-vertex tangents, one per position.
+    pub fn set_mesh_tangents(&mut self, mesh: u32, tangents: Vec<glam::Vec4>) {
+        let m = mesh as usize;
+        debug_assert_eq!(tangents.len(), self.meshes[m].positions.len());
+        if self.mesh_tangents.len() <= m {
+            self.mesh_tangents.resize(m + 1, None);
+        }
+        self.mesh_tangents[m] = Some(tangents);
+    }
+
     /// The mesh attributes at a hit, where the surface hit has them.
     pub fn attributes_at(&self, hit: &SceneHit) -> Option<AttributePoint<'_>> {
         let geometry = if hit.instance != NO_INSTANCE {
@@ -590,7 +610,15 @@ impl Geometry {
                 si
             }
             ShapeKind::Plane(p) => p.interaction(ray, &ph),
-            ShapeKind::Mesh(m) => self.meshes[*m as usize].interaction(hit.prim as usize, &ph),
+            ShapeKind::Mesh(m) => {
+                let mesh = &self.meshes[*m as usize];
+                let mut si = mesh.interaction(hit.prim as usize, &ph);
+                if let Some(Some(tangents)) = self.mesh_tangents.get(*m as usize) {
+                    let tri = mesh.indices[hit.prim as usize];
+                    si.tangent = FileTangent::at(tangents, tri, hit.u, hit.v);
+                }
+                si
+            }
             ShapeKind::Implicit(i) => {
                 let f = &self.implicits[*i as usize];
                 match &self.implicit_transforms[*i as usize] {

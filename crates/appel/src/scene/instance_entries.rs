@@ -70,6 +70,7 @@ pub(super) fn add_instances(
                 &base_dir.join(&m.file),
                 None,
                 material,
+                m.smooth_normals,
                 settings.accel,
                 &settings.accel_options,
             )?;

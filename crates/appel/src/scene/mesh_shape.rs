@@ -7,6 +7,7 @@ use super::{Geometry, Instance, Material, Prototype};
 use crate::accel::{AccelKind, AccelOptions};
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
+use crate::io::vertex_normals::angle_weighted;
 use crate::io::{load_mesh, FileCamera, FileMaterial};
 use crate::shading::texture::Texture;
 use std::path::Path;
@@ -27,7 +28,9 @@ pub struct FileExtras {
 }
 
 /// Loads `path`, transforms it and adds one mesh shape per part. `material` overrides the file's
-/// materials when the scene names one.
+/// materials when the scene names one. With `smooth_normals`, parts without vertex normals get
+/// smooth ones, computed from the transformed positions (as Mitsuba computes them after applying
+/// `to_world`).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn add_mesh_file(
     geometry: &mut Geometry,
@@ -36,6 +39,7 @@ pub(super) fn add_mesh_file(
     path: &Path,
     transform: Option<&TransformDesc>,
     material: Option<u32>,
+    smooth_normals: bool,
     kind: AccelKind,
     options: &AccelOptions,
 ) -> Result<()> {
@@ -52,6 +56,18 @@ pub(super) fn add_mesh_file(
                 Location::file(path),
                 "the transform moves vertices beyond the range of f32",
             ));
+        }
+    }
+    if smooth_normals {
+        for part in loaded
+            .parts
+            .iter_mut()
+            .chain(loaded.shared.iter_mut().flatten())
+        {
+            let mesh = &mut part.mesh;
+            if mesh.normals.is_none() {
+                mesh.normals = Some(angle_weighted(&mesh.positions, &mesh.indices));
+            }
         }
     }
     extras.warnings.extend(
@@ -99,6 +115,9 @@ pub(super) fn add_mesh_file(
         let count = part.mesh.triangle_count() as u32;
         let emits = part_emission(part.material);
         let shape = geometry.push_mesh(part.mesh, id);
+        if let Some(t) = part.tangents {
+            geometry.set_mesh_tangents(geometry.meshes.len() as u32 - 1, t);
+        }
         if let Some(e) = emits {
             extras.emission.push((shape, e));
         }
@@ -125,6 +144,9 @@ pub(super) fn add_mesh_file(
             }
             let count = part.mesh.triangle_count() as u32;
             let shape = g.push_mesh(part.mesh, part_material(part.material));
+            if let Some(t) = part.tangents {
+                g.set_mesh_tangents(g.meshes.len() as u32 - 1, t);
+            }
             g.shapes[shape as usize].source.first_prim = first_prim;
             first_prim += count;
         }

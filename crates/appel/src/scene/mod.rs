@@ -424,6 +424,7 @@ impl Scene {
                         &base_dir.join(&m.file),
                         m.transform.as_ref(),
                         m.material.is_some().then_some(material),
+                        m.smooth_normals,
                         build_settings.accel,
                         &settings.accel_options,
                     )?;

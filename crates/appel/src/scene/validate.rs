@@ -698,6 +698,12 @@ fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
                 return c.fail("file", "`file` must name a mesh file");
             }
             file_pattern(c, d, &m.file)?;
+            if m.face_normals && m.smooth_normals {
+                return c.fail(
+                    "smooth_normals",
+                    "`smooth_normals` and `face_normals` contradict each other: choose one",
+                );
+            }
             placed(c, &m.transform)?;
             keyframes(c, &m.keyframes, &m.transform)?;
         }

@@ -164,6 +164,9 @@ pub struct SurfacePoint<'a> {
     pub dpdv: Vec3,
     /// The geometric normal.
     pub n: Vec3,
+    /// +1 or -1: a normal map's y runs along this times `z × x` (see
+    /// [`SurfaceInteraction::bitangent_sign`](crate::geometry::SurfaceInteraction::bitangent_sign)).
+    pub bitangent_sign: f32,
 }
 
 impl<'a> SurfacePoint<'a> {
@@ -181,6 +184,7 @@ impl<'a> SurfacePoint<'a> {
             dpdu: frame.to_local(si.dpdu),
             dpdv: frame.to_local(si.dpdv),
             n: frame.to_local(si.n),
+            bitangent_sign: si.bitangent_sign(),
         }
     }
 }
@@ -349,7 +353,8 @@ impl Material {
                     // The map's normal is relative to the unmirrored shading frame, as Mitsuba's
                     // adapter reads it from the surface interaction a two-sided BSDF leaves as it
                     // is (only the directions are mirrored).
-                    let n = normal_from_map(normals.eval_at(&tp));
+                    let mut n = normal_from_map(normals.eval_at(&tp));
+                    n.y *= at.bitangent_sign;
                     let p = Perturbation::new(n, wo, *flip_invalid, *shadowing);
                     wo = p.frame.to_local(wo);
                     out.perturbation = Some(p);

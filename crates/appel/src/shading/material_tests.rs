@@ -68,6 +68,7 @@ fn point(wo: Vec3) -> SurfacePoint<'static> {
         dpdu: Vec3::X,
         dpdv: Vec3::Y,
         n: Vec3::Z,
+        bitangent_sign: 1.0,
     }
 }
 
@@ -453,4 +454,33 @@ material = "d"
     .unwrap_err()
     .to_string();
     assert!(e.contains("cannot wrap one another"), "{e}");
+}
+
+/// A left-handed tangent frame (glTF's w = -1) reads the map's y the other way round: the map
+/// tilting toward +y shades as its mirror image, tilting toward -y, does in a right-handed one,
+/// and unlike the unmirrored map.
+#[test]
+fn negative_bitangent_sign_mirrors_the_map_s_y() {
+    let toward_y = normal_mapped(Vec3::new(0.5, 0.85, 0.85), rough_conductor(), true);
+    let toward_minus_y = normal_mapped(Vec3::new(0.5, 0.15, 0.85), rough_conductor(), true);
+    let mut rng = Pcg32::new(7, 3);
+    let mut differs = false;
+    for wo in wos() {
+        let left = SurfacePoint {
+            bitangent_sign: -1.0,
+            ..point(wo)
+        };
+        let a = Material::bsdf(&toward_y, 0, &left);
+        let b = Material::bsdf(&toward_minus_y, 0, &point(wo));
+        let c = Material::bsdf(&toward_y, 0, &point(wo));
+        for _ in 0..20 {
+            let wi = dir(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32());
+            let (fa, pa) = a.eval_pdf(wo, wi);
+            let (fb, pb) = b.eval_pdf(wo, wi);
+            let (fc, _) = c.eval_pdf(wo, wi);
+            assert!((fa - fb).abs().max_element() < 1e-5 && (pa - pb).abs() < 1e-5);
+            differs |= (fa - fc).abs().max_element() > 1e-2;
+        }
+    }
+    assert!(differs);
 }

@@ -142,6 +142,7 @@ impl Implicit {
             // Not a parametrization of the surface: the shading frame picks its own tangent.
             dpdu: Vec3::ZERO,
             dpdv: Vec3::ZERO,
+            tangent: None,
         }
     }
 }

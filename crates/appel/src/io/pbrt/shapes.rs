@@ -109,6 +109,7 @@ impl Converter {
                 MeshDesc {
                     file: String::new(),
                     material: None,
+                    smooth_normals: false,
                     triangles,
                 },
             );

@@ -75,6 +75,9 @@ pub struct MeshDesc {
     /// Overrides the file's own materials.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// As for a mesh shape: the file's parts without vertex normals get smooth ones.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub smooth_normals: bool,
     /// Triangle meshes written out instead of a file (pbrt's object definitions), each with its
     /// own `material` (or the entry's); they cannot emit.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -135,6 +135,11 @@ pub struct MeshShapeDesc {
     /// Ignore the file's vertex normals and shade with the triangles' own.
     #[serde(default, skip_serializing_if = "is_false")]
     pub face_normals: bool,
+    /// Give the parts the file has no vertex normals for smooth ones, angle-weighted as Mitsuba 3
+    /// computes them (its `obj` and `ply` shapes do unless `face_normals`); otherwise they shade
+    /// with the triangles' own normals.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub smooth_normals: bool,
     /// Turn the normals around (which side is the front for one-sided materials and emitters).
     #[serde(default, skip_serializing_if = "is_false")]
     pub flip_normals: bool,

@@ -77,15 +77,21 @@ impl Converter<'_> {
         let flip_normals =
             |s: &Object| -> Result<bool> { Ok(s.bool("flip_normals")?.unwrap_or(false)) };
         let d = match s.plugin.as_str() {
-            "obj" | "ply" | "serialized" => ShapeDesc::Mesh(MeshShapeDesc {
-                file: self.mesh_file(s)?,
-                transform: placed(to_world),
-                face_normals: s.bool("face_normals")?.unwrap_or(false),
-                flip_normals: flip_normals(s)?,
-                material,
-                emitter,
-                keyframes: Vec::new(),
-            }),
+            "obj" | "ply" | "serialized" => {
+                let face_normals = s.bool("face_normals")?.unwrap_or(false);
+                ShapeDesc::Mesh(MeshShapeDesc {
+                    file: self.mesh_file(s)?,
+                    transform: placed(to_world),
+                    face_normals,
+                    // Mitsuba's `obj` and `ply` compute the vertex normals a file lacks, unless
+                    // `face_normals` (`serialized` meshes get theirs when they are read).
+                    smooth_normals: !face_normals,
+                    flip_normals: flip_normals(s)?,
+                    material,
+                    emitter,
+                    keyframes: Vec::new(),
+                })
+            }
             "sphere" => {
                 let center = DVec3::from(s.vector("center")?.unwrap_or([0.0; 3]));
                 let radius = s.float_or("radius", 1.0)?;
@@ -250,6 +256,8 @@ impl Converter<'_> {
                         MeshDesc {
                             file,
                             material: Some(material),
+                            // Mitsuba computes the normals an OBJ or PLY file lacks.
+                            smooth_normals: true,
                             triangles: Vec::new(),
                         },
                     );
