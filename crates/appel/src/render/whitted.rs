@@ -318,8 +318,10 @@ impl<'a> Origins<'a> {
         }
     }
 
-    /// `offset_ray_origin(si.p, si.p_error, si.n, w)`, the same value.
-    #[inline]
+    /// `offset_ray_origin(si.p, si.p_error, si.n, w)`, the same value. Inlined: called out of
+    /// line, `w` went through memory, and reading it back as wider loads than the caller's stores
+    /// stalled store-to-load forwarding (the largest single cost in the Whitted frame, perf).
+    #[inline(always)]
     fn towards(&mut self, w: Vec3) -> Vec3 {
         let si = self.si;
         let below = w.dot(si.n) < 0.0;
