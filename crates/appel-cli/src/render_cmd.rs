@@ -236,6 +236,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         cancel: Some(&cancel),
         time_limit: args.time_limit.map(std::time::Duration::from_secs_f64),
         window,
+        skip_aovs: false,
     };
     let rendered = pool.install(|| render(&scene, &options));
     if let Some(b) = bar {

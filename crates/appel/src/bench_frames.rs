@@ -45,7 +45,11 @@ pub fn bench_frames(
     if frames == 0 {
         return Err(Error::Invalid("--frames must be at least 1".into()));
     }
-    let options = RenderOptions::default();
+    // A frame is its image: no AOVs, as in the viewer's colour frames.
+    let options = RenderOptions {
+        skip_aovs: true,
+        ..Default::default()
+    };
     let mut times = Vec::with_capacity(frames);
     let mut rays: Option<RayCounts> = None;
     for _ in 0..frames {
@@ -140,7 +144,11 @@ pub fn bench_samples(
             )))
         }
     };
-    let options = RenderOptions::default();
+    // A frame is its image: no AOVs, as in the viewer's colour frames.
+    let options = RenderOptions {
+        skip_aovs: true,
+        ..Default::default()
+    };
     let mut renders = Vec::with_capacity(runs);
     for _ in 0..runs {
         let start = Instant::now();

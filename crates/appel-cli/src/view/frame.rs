@@ -14,6 +14,11 @@ use rayon::prelude::*;
 pub fn to_rgb8(aov: &str, film: &Film, rgb: &[Vec3], cost: Option<&[u32]>) -> Vec<u8> {
     let n = film.width as usize * film.height as usize;
     let mut out = Vec::with_capacity(n * 3);
+    // A frame rendered for colour, before the view switched to an AOV, has none: it shows its
+    // colour until the next frame brings them.
+    let without_aovs =
+        film.depth.len() < n && matches!(aov, "depth" | "normal" | "shapeid" | "primid");
+    let aov = if without_aovs { "color" } else { aov };
     match aov {
         "depth" => {
             // Near is bright: the visible depth range maps to 1..0.2, misses are black.
@@ -189,6 +194,27 @@ mod tests {
         let jpeg = encode(&flat, w, h, FORMAT_JPEG);
         let back = image::load_from_memory(&jpeg[16..]).unwrap().to_rgb8();
         assert!(back.into_raw().iter().all(|&v| v.abs_diff(120) <= 3));
+    }
+
+    #[test]
+    fn a_film_without_aovs_shows_its_colour_for_any_aov() {
+        let mut film = Film::new(4, 3);
+        film.rgb = vec![Vec3::new(1.0, 0.0, 1.0); 12];
+        let colour = to_rgb8("color", &film, &film.rgb, None);
+        assert_eq!(&colour[..3], &[255, 0, 255]);
+        // With AOVs the depth view differs from the colour...
+        assert_ne!(to_rgb8("depth", &film, &film.rgb, None), colour);
+        // ...without them (a frame rendered for colour), every AOV view is the colour.
+        film.depth.clear();
+        film.normal.clear();
+        film.shape_id.clear();
+        film.prim_id.clear();
+        film.instance_id.clear();
+        for aov in ["depth", "normal", "shapeid", "primid"] {
+            let out = to_rgb8(aov, &film, &film.rgb, None);
+            assert_eq!(out.len(), 4 * 3 * 3);
+            assert_eq!(out, colour, "{aov}");
+        }
     }
 
     #[test]

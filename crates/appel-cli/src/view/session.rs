@@ -309,6 +309,7 @@ fn next_job(view: &mut View, stage: Stage) -> Job {
         },
         seed,
         cost: view.aov == "cost",
+        aovs: !matches!(view.aov.as_str(), "color" | "cost"),
         preview,
         generation: view.generation,
     }

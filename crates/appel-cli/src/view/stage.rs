@@ -61,6 +61,8 @@ pub struct Job {
     pub seed: u64,
     /// Also compute the traversal-cost heat map (the `cost` AOV).
     pub cost: bool,
+    /// Fill the film's AOVs (depth, normal, ids): only when one of them is shown.
+    pub aovs: bool,
     /// A preview (shown even if the view changed meanwhile) rather than a still pass (which is
     /// averaged with the others, so only counts if the view is unchanged).
     pub preview: bool,
@@ -108,6 +110,7 @@ impl Job {
             let start = Instant::now();
             let options = RenderOptions {
                 cancel: Some(cancel),
+                skip_aovs: !self.aovs,
                 ..Default::default()
             };
             film = render(scene, &options).ok();

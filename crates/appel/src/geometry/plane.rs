@@ -98,6 +98,8 @@ impl Plane {
         })
     }
 
+    /// Inlined into [`crate::scene::Geometry::interaction_with`] (see there).
+    #[inline(always)]
     pub fn interaction(&self, ray: &Ray, hit: &PrimHit) -> SurfaceInteraction {
         let n = self.normal.as_dvec3();
         let p = ray.origin.as_dvec3() + hit.t as f64 * ray.dir.as_dvec3();

@@ -86,7 +86,8 @@ impl Sphere {
 
     /// [`Self::interaction`], with `uv` left at zero unless `with_uv`: the texture coordinates take an
     /// `atan2` and an `acos`, the larger part of the cost, and only textured materials read them.
-    #[inline]
+    /// Inlined into [`crate::scene::Geometry::interaction_with`] (see there).
+    #[inline(always)]
     pub fn interaction_with(&self, ray: &Ray, hit: &PrimHit, with_uv: bool) -> SurfaceInteraction {
         // Re-project the hit point onto the surface (pbrt-v4 section 6.8.5), so its error no longer
         // depends on how far the ray travelled.

@@ -29,8 +29,19 @@ pub fn offset_ray_origin(p: Vec3, p_error: Vec3, n: Vec3, w: Vec3) -> Vec3 {
 /// in `round_away`, which the predictor then learns separately.
 #[inline(always)]
 pub fn offset_ray_origin_to_side(p: Vec3, p_error: Vec3, n: Vec3, below: bool) -> Vec3 {
-    let d = n.abs().dot(p_error);
-    let mut offset = d * n;
+    offset_ray_origin_by(p, surface_offset(p_error, n), below)
+}
+
+/// The offset of [`offset_ray_origin`] to the side `n` points to: along the normal, far enough to
+/// leave the error box `p_error`.
+#[inline(always)]
+pub fn surface_offset(p_error: Vec3, n: Vec3) -> Vec3 {
+    n.abs().dot(p_error) * n
+}
+
+/// [`offset_ray_origin_to_side`] with its [`surface_offset`] already known: the same value.
+#[inline(always)]
+pub fn offset_ray_origin_by(p: Vec3, mut offset: Vec3, below: bool) -> Vec3 {
     if below {
         offset = -offset;
     }

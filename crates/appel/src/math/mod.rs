@@ -8,7 +8,9 @@ mod ray_box;
 
 pub use aabb::Aabb;
 pub use f64x2::{F64x2, Lanes, Mask2};
-pub use float::{gamma, offset_ray_origin, offset_ray_origin_to_side};
+pub use float::{
+    gamma, offset_ray_origin, offset_ray_origin_by, offset_ray_origin_to_side, surface_offset,
+};
 pub use glam::{Vec2, Vec3};
 pub use ray::{Ray, RayF64};
 pub use ray_box::{far_scale, RayBox};

@@ -11,7 +11,8 @@ pub struct Film {
     pub height: u32,
     /// Linear RGB radiance.
     pub rgb: Vec<Vec3>,
-    /// Distance along the unit camera ray to the first hit; +inf on a miss.
+    /// Distance along the unit camera ray to the first hit; +inf on a miss. This and the other
+    /// AOVs are empty in a film rendered with [`super::RenderOptions::skip_aovs`].
     pub depth: Vec<f32>,
     /// Unit world-space shading normal at the first hit; zero on a miss.
     pub normal: Vec<Vec3>,
@@ -73,7 +74,8 @@ impl Film {
         )
     }
 
-    /// The film of pixels whose means and variances are known; all in row order.
+    /// The film of pixels whose means and variances are known; all in row order (`aovs` empty
+    /// for a film without them).
     pub(crate) fn from_pixels(
         width: u32,
         height: u32,
@@ -81,8 +83,8 @@ impl Film {
         variance: Vec<Vec3>,
         aovs: &[PixelAov],
     ) -> Self {
-        debug_assert_eq!(rgb.len(), aovs.len());
-        debug_assert_eq!(variance.len(), aovs.len());
+        debug_assert!(aovs.is_empty() || rgb.len() == aovs.len());
+        debug_assert_eq!(variance.len(), rgb.len());
         Self {
             width,
             height,

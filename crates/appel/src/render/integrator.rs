@@ -86,7 +86,7 @@ pub struct SurfaceHit {
 }
 
 /// The surface at `hit`, with texture coordinates only where the material reads them.
-#[inline]
+#[inline(always)]
 pub fn surface_hit(scene: &Scene, ray: &Ray, hit: SceneHit) -> SurfaceHit {
     let with_uv = scene.material(&hit).needs_uv();
     SurfaceHit {

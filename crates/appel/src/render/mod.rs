@@ -98,6 +98,10 @@ pub struct RenderOptions<'a> {
     /// Render only these pixels: the film is the window's size, and its pixels are those of the
     /// whole image's render, bit for bit.
     pub window: Option<Window>,
+    /// Leave the film's AOVs (depth, normal, ids) empty: a frame that shows only the image
+    /// (`appel bench --frames`, the viewer's colour frames) saves finding, storing and copying
+    /// them.
+    pub skip_aovs: bool,
 }
 
 /// Renders the scene with its own integrator, sampler and filter on the current rayon thread

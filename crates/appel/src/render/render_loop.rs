@@ -150,7 +150,11 @@ fn render_loop_as<I: Integrator, S: Sampler>(
     } else {
         WindowFilm::Sums(FilmBlock::new(window.x0 as i32, window.y0 as i32, ww, wh))
     };
-    let mut aovs = vec![PixelAov::MISS; ww as usize * wh as usize];
+    let mut aovs = if options.skip_aovs {
+        Vec::new()
+    } else {
+        vec![PixelAov::MISS; ww as usize * wh as usize]
+    };
     let mut stats = RenderStats::default();
     let samples_done = AtomicU64::new(0);
     let sampled_pixels = tiles.iter().map(|t| t.pixels() as u64).sum::<u64>();
@@ -164,8 +168,10 @@ fn render_loop_as<I: Integrator, S: Sampler>(
                 if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
                     return None;
                 }
+                let aovs = first == 0 && !options.skip_aovs;
                 let r = render_tile(
                     scene, integrator, sampler, &p.filter, margin, own_pixels, t, first, count,
+                    aovs,
                 );
                 let n = t.pixels() as u64 * count as u64;
                 let done = samples_done.fetch_add(n, Ordering::Relaxed) + n;
@@ -236,7 +242,8 @@ impl WindowFilm {
 }
 
 /// Samples `first..first + count` of every pixel of tile `t`, in a fixed order: rows from the
-/// top, in each row the sample indices in turn, each over the row's pixels from the left.
+/// top, in each row the sample indices in turn, each over the row's pixels from the left; the
+/// AOVs with sample 0 if `with_aovs` (which needs `first == 0`).
 #[allow(clippy::too_many_arguments)]
 fn render_tile<I: Integrator, S: Sampler>(
     scene: &Scene,
@@ -248,10 +255,11 @@ fn render_tile<I: Integrator, S: Sampler>(
     t: &Tile,
     first: u32,
     count: u32,
+    with_aovs: bool,
 ) -> TileResult {
     let mut tile_samples = TileSamples::new(t.rect(), own_pixels, count, margin);
     let tw = (t.x1 - t.x0) as usize;
-    let mut aovs = if first == 0 {
+    let mut aovs = if with_aovs {
         vec![PixelAov::MISS; t.pixels()]
     } else {
         Vec::new()
@@ -263,7 +271,7 @@ fn render_tile<I: Integrator, S: Sampler>(
     for y in t.y0..t.y1 {
         let row_aovs = (y - t.y0) as usize * tw;
         for index in first..first + count {
-            let aov = (index == 0).then(|| &mut aovs[row_aovs..row_aovs + tw]);
+            let aov = (with_aovs && index == 0).then(|| &mut aovs[row_aovs..row_aovs + tw]);
             let row = PixelRow { x0: t.x0, y, index };
             integrator.sample_row(scene, row, &mut sampler, samples, aov, &mut ctx);
             for s in samples.iter() {
@@ -357,6 +365,48 @@ mod tests {
         }
         // The one-sample films had pixels left empty by a sample rounded into its neighbour.
         assert!(strays > 0);
+    }
+
+    /// Skipping the AOVs leaves them empty and changes no pixel, in both kinds of film.
+    #[test]
+    fn skipping_the_aovs_keeps_the_image() {
+        let text = builtin_scene("whitted").unwrap();
+        let mut d = description_from_str(text, Syntax::Toml, Path::new("whitted")).unwrap();
+        d.camera.width = 90;
+        d.camera.height = 70;
+        let scene = Scene::new(&d, Path::new(".")).unwrap();
+        let whitted = Whitted { max_depth: 5 };
+        let p = Passes {
+            filter: Filter::Box { radius: 0.5 },
+            spp: 2,
+        };
+        let sampler = IndependentSampler::new(5);
+        for own in [false, true] {
+            let with = render_loop_as(
+                &scene,
+                &whitted,
+                &sampler,
+                &p,
+                &RenderOptions::default(),
+                own,
+            )
+            .unwrap()
+            .0;
+            let skip = RenderOptions {
+                skip_aovs: true,
+                ..Default::default()
+            };
+            let without = render_loop_as(&scene, &whitted, &sampler, &p, &skip, own)
+                .unwrap()
+                .0;
+            assert_eq!(bits(&with.rgb), bits(&without.rgb));
+            assert_eq!(bits(&with.variance), bits(&without.variance));
+            assert_eq!(with.shape_id.len(), 90 * 70);
+            assert!(with.shape_id.iter().any(|&id| id != crate::render::MISS_ID));
+            assert!(without.depth.is_empty() && without.normal.is_empty());
+            assert!(without.shape_id.is_empty() && without.prim_id.is_empty());
+            assert!(without.instance_id.is_empty());
+        }
     }
 
     const MS: Duration = Duration::from_millis(1);

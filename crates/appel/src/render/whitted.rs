@@ -10,7 +10,7 @@ use super::optics::{fresnel_dielectric, reflect, refract};
 use super::sampler::Sampler;
 use super::{PixelAov, TraceContext};
 use crate::geometry::SurfaceInteraction;
-use crate::math::{offset_ray_origin_to_side, Ray, Vec2, Vec3};
+use crate::math::{offset_ray_origin_by, surface_offset, Ray, Vec2, Vec3};
 use crate::scene::Material;
 use crate::scene::{Light, Scene, SceneHit};
 
@@ -50,13 +50,13 @@ impl ShadeFirstHit for Raycast {
         let Some(h) = hit else {
             return scene.background;
         };
-        let mut origins = Origins::new(&h.si);
+        let origins = Origins::new(&h.si);
         shade_locally(
             scene,
             scene.material(&h.hit),
             &h.si,
             -ray.dir,
-            &mut origins,
+            &origins,
             ctx,
         )
     }
@@ -155,18 +155,41 @@ fn shade_camera_hit<T: ShadeFirstHit>(
     aov: Option<&mut PixelAov>,
     ctx: &mut TraceContext,
 ) -> FilmSample {
-    let hit = hit.map(|h| surface_hit(scene, ray, h));
+    // The surface built where it is read, not moved into an `Option` (see `Whitted::spawn`).
+    match hit {
+        Some(h) => {
+            let h = surface_hit(scene, ray, h);
+            shade_camera_surface(integrator, scene, x, y, pos, ray, Some(&h), aov, ctx)
+        }
+        None => shade_camera_surface(integrator, scene, x, y, pos, ray, None, aov, ctx),
+    }
+}
+
+/// [`shade_camera_hit`] once the surface is known.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn shade_camera_surface<T: ShadeFirstHit>(
+    integrator: &T,
+    scene: &Scene,
+    x: u32,
+    y: u32,
+    pos: Vec2,
+    ray: &Ray,
+    hit: Option<&SurfaceHit>,
+    aov: Option<&mut PixelAov>,
+    ctx: &mut TraceContext,
+) -> FilmSample {
     if let Some(aov) = aov {
         // The AOVs describe the pixel centre: this ray's hit when the sample is there.
         *aov = if is_pixel_centre(pos, x, y) {
-            aov_of(scene, hit.as_ref())
+            aov_of(scene, hit)
         } else {
             centre_aov(scene, x, y, ctx)
         };
     }
     FilmSample {
         pos,
-        radiance: integrator.radiance(scene, ray, hit.as_ref(), ctx),
+        radiance: integrator.radiance(scene, ray, hit, ctx),
     }
 }
 
@@ -224,8 +247,8 @@ impl Whitted {
         };
         let m = scene.material(hit);
         let wo = -ray.dir;
-        let mut origins = Origins::new(si);
-        let mut color = shade_locally(scene, m, si, wo, &mut origins, ctx);
+        let origins = Origins::new(si);
+        let mut color = shade_locally(scene, m, si, wo, &origins, ctx);
         if depth >= self.max_depth || !m.is_specular() {
             return color;
         }
@@ -280,10 +303,15 @@ impl Whitted {
             Bounce::Refraction => ctx.rays.refraction += 1,
         }
         let ray = Ray::new(origin, dir);
-        let hit = scene
-            .intersect(&ray, f32::INFINITY, &mut ctx.traversal)
-            .map(|h| surface_hit(scene, &ray, h));
-        self.trace(scene, &ray, hit.as_ref(), depth + 1, ctx)
+        // The surface built where `trace` reads it, not moved into an `Option` (a copy by wider
+        // loads than its stores, which stalls store-to-load forwarding).
+        match scene.intersect(&ray, f32::INFINITY, &mut ctx.traversal) {
+            Some(h) => {
+                let hit = surface_hit(scene, &ray, h);
+                self.trace(scene, &ray, Some(&hit), depth + 1, ctx)
+            }
+            None => self.trace(scene, &ray, None, depth + 1, ctx),
+        }
     }
 }
 
@@ -296,48 +324,47 @@ pub fn local_shading(
     wo: Vec3,
     ctx: &mut TraceContext,
 ) -> Vec3 {
-    shade_locally(scene, m, si, wo, &mut Origins::new(si), ctx)
+    shade_locally(scene, m, si, wo, &Origins::new(si), ctx)
 }
 
 /// The origins of the rays leaving one shading point: [`crate::math::offset_ray_origin`] depends on
-/// the direction only through the side of the surface it points to, so each side's origin is
-/// computed at most once and shared by the shadow rays and the reflected and refracted rays.
+/// the direction only through the side of the surface it points to, so the offset is computed once
+/// and shared by the shadow rays and the reflected and refracted rays. No cache of the rounded
+/// origins: the compiler kept that (an `Option` per side) out of line, and its result then went
+/// through memory (see [`Origins::towards`]).
 struct Origins<'a> {
     si: &'a SurfaceInteraction,
-    above: Option<Vec3>,
-    below: Option<Vec3>,
+    offset: Vec3,
 }
 
 impl<'a> Origins<'a> {
-    #[inline]
+    #[inline(always)]
     fn new(si: &'a SurfaceInteraction) -> Self {
         Self {
             si,
-            above: None,
-            below: None,
+            offset: surface_offset(si.p_error, si.n),
         }
     }
 
-    /// `offset_ray_origin(si.p, si.p_error, si.n, w)`, the same value.
-    #[inline]
-    fn towards(&mut self, w: Vec3) -> Vec3 {
+    /// `offset_ray_origin(si.p, si.p_error, si.n, w)`, the same value. Inlined: called out of
+    /// line, `w` went through memory, and reading it back as wider loads than the caller's stores
+    /// stalled store-to-load forwarding (the largest single cost in the Whitted frame, perf).
+    #[inline(always)]
+    fn towards(&self, w: Vec3) -> Vec3 {
         let si = self.si;
-        let below = w.dot(si.n) < 0.0;
-        let slot = if below {
-            &mut self.below
-        } else {
-            &mut self.above
-        };
-        *slot.get_or_insert_with(|| offset_ray_origin_to_side(si.p, si.p_error, si.n, below))
+        offset_ray_origin_by(si.p, self.offset, w.dot(si.n) < 0.0)
     }
 }
 
+/// Inlined, so that the surface interaction is read from where its caller built it, in
+/// registers or in stores of the same widths (see [`Origins::towards`]).
+#[inline(always)]
 fn shade_locally(
     scene: &Scene,
     m: &Material,
     si: &SurfaceInteraction,
     wo: Vec3,
-    origins: &mut Origins,
+    origins: &Origins,
     ctx: &mut TraceContext,
 ) -> Vec3 {
     let albedo = m.albedo(si.uv);

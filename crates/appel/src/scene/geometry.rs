@@ -580,18 +580,14 @@ impl Geometry {
 
     /// [`Self::interaction`]; surfaces whose texture coordinates are costly (spheres) skip them and
     /// leave `uv` at zero unless `with_uv`.
-    #[inline]
+    ///
+    /// Inlined with the spheres' and rectangles' own, so the interaction is built in its caller's
+    /// place: returned through memory, it was written a coordinate at a time and copied on with
+    /// wider loads, which stalled store-to-load forwarding (a tenth of the Whitted frame, perf).
+    #[inline(always)]
     pub fn interaction_with(&self, ray: &Ray, hit: &SceneHit, with_uv: bool) -> SurfaceInteraction {
         if hit.instance != NO_INSTANCE {
-            let instance = &self.instances[hit.instance as usize];
-            let x = &instance.transform;
-            let inner = SceneHit {
-                instance: NO_INSTANCE,
-                ..*hit
-            };
-            let prototype = &self.prototypes[instance.prototype as usize].geometry;
-            let si = prototype.interaction_with(&x.ray_to_object(ray), &inner, with_uv);
-            return x.interaction_to_world(&si);
+            return self.instance_interaction(ray, hit, with_uv);
         }
         let ph = PrimHit {
             t: hit.t,
@@ -631,6 +627,22 @@ impl Geometry {
             ShapeKind::SdfGrid(g) => g.interaction(ray, &ph),
             ShapeKind::Instances => unreachable!("instance hits are handled above"),
         }
+    }
+}
+
+impl Geometry {
+    /// [`Geometry::interaction_with`] of a hit inside an instance, out of line (it recurses).
+    #[inline(never)]
+    fn instance_interaction(&self, ray: &Ray, hit: &SceneHit, with_uv: bool) -> SurfaceInteraction {
+        let instance = &self.instances[hit.instance as usize];
+        let x = &instance.transform;
+        let inner = SceneHit {
+            instance: NO_INSTANCE,
+            ..*hit
+        };
+        let prototype = &self.prototypes[instance.prototype as usize].geometry;
+        let si = prototype.interaction_with(&x.ray_to_object(ray), &inner, with_uv);
+        x.interaction_to_world(&si)
     }
 }
 
