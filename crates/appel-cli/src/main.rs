@@ -44,8 +44,24 @@ enum Command {
     View(Box<view::ViewArgs>),
 }
 
+/// Rust starts programs with SIGPIPE ignored, so a `println!` after the reader of stdout has gone
+/// (`appel bench ... | head`) panics. A command-line tool should end quietly then, as Unix tools
+/// do. The viewer keeps SIGPIPE ignored: a browser closing its socket is an error the server
+/// handles, not the end of the server.
+#[cfg(unix)]
+fn end_quietly_when_stdout_closes() {
+    // SAFETY: called first in `main`, before any other thread exists; SIG_DFL is a valid handler.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    #[cfg(unix)]
+    if !matches!(cli.command, Command::View(_)) {
+        end_quietly_when_stdout_closes();
+    }
     let result = match cli.command {
         Command::Render(args) => render_cmd::run(*args),
         Command::Scenes(args) => scenes_cmd::run(args),

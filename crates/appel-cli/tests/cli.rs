@@ -1006,3 +1006,39 @@ fn malformed_files_of_every_reader_are_rejected_without_output() {
         &["t.png", "not a readable Png image"],
     );
 }
+
+/// A reader that closes the pipe early (`appel bench ... | head -1`) ends Appel quietly, as it
+/// ends Unix tools (SIGPIPE), instead of a panic about printing to stdout.
+#[cfg(unix)]
+#[test]
+fn a_closed_stdout_ends_appel_without_a_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_appel"))
+        .args([
+            "bench",
+            "uniform",
+            "--triangles",
+            "20000",
+            "--size",
+            "64x48",
+        ])
+        .args(["--runs", "1", "--builds", "1"])
+        .current_dir(dir.path())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("appel runs");
+    // Closed before the benchmark has built anything, so its first line meets no reader.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = stderr(&out);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(
+        out.status.signal(),
+        Some(libc::SIGPIPE),
+        "{:?} {err}",
+        out.status
+    );
+}
