@@ -83,7 +83,9 @@ def mitsuba_worker(job):
     if job["variant"].startswith("llvm"):
         once(job["spp"], 0)
     seconds, arr = once(job["spp"], job.get("seed", 1))
-    out = {"seconds": seconds, "width": int(size[0]), "height": int(size[1])}
+    # Stratified samplers round the count up (multijitter to a product of two integers).
+    spp = int(scene.sensors()[0].sampler().sample_count())
+    out = {"seconds": seconds, "width": int(size[0]), "height": int(size[1]), "spp": spp}
     if job.get("image"):
         np.save(job["image"], arr[..., :3].astype(np.float32))
     print(json.dumps(out))
@@ -111,7 +113,9 @@ def mitsuba(variant, scene, size, spp, threads, res_param, max_depth, image=None
                res_param=res_param, max_depth=max_depth, image=image, seed=seed)
     out = subprocess.run([sys.executable, __file__, "--mitsuba-worker", json.dumps(job)],
                          check=True, capture_output=True, text=True, env=llvm_env(), timeout=600).stdout
-    return json.loads(out.strip().splitlines()[-1])
+    # Mitsuba's log lines may leave a colour escape before the JSON on its line.
+    last = out.strip().splitlines()[-1]
+    return json.loads(last[last.index("{"):])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -216,11 +220,12 @@ def main():
         for t in threads:
             a = [appel_sps(scene, size, spp, t, res_param, 1) for _ in range(args.repeat)]
             a_sps = med([r["msamples_per_second"] for r in a])
-            px = size[0] * size[1] * spp
-            s_sps = med([px / mitsuba("scalar_rgb", scene, size, spp, t, res_param, max_depth)["seconds"] / 1e6
-                         for _ in range(args.repeat)])
-            l_sps = med([px / mitsuba("llvm_ad_rgb", scene, size, spp, t, res_param, max_depth)["seconds"] / 1e6
-                         for _ in range(args.repeat)])
+            def rate(variant):
+                r = mitsuba(variant, scene, size, spp, t, res_param, max_depth)
+                return size[0] * size[1] * r["spp"] / r["seconds"] / 1e6
+
+            s_sps = med([rate("scalar_rgb") for _ in range(args.repeat)])
+            l_sps = med([rate("llvm_ad_rgb") for _ in range(args.repeat)])
             sps[(name, t)] = {"appel": a_sps, "scalar_rgb": s_sps, "llvm_ad_rgb": l_sps}
             rows.append((name, f"{size[0]}x{size[1]}", spp, t, a_sps, s_sps, l_sps,
                          a[0]["rays_per_sample"]))
@@ -249,6 +254,7 @@ def main():
         px = ref_size[0] * ref_size[1]
         for who in ["appel", "llvm_ad_rgb"]:
             n = max(1, round(budget * rates[who] * 1e6 / px))
+            used = n
             times, rmses, rels = [], [], []
             for k in range(args.repeat):
                 if who == "appel":
@@ -256,13 +262,13 @@ def main():
                     secs = appel_render(scene, ref_size, n, t, res_param, image)
                 else:
                     image = os.path.join(tmp, f"mitsuba-{k}.npy")
-                    secs = mitsuba(who, scene, ref_size, n, t, res_param, max_depth, image,
-                                   k + 1)["seconds"]
+                    r = mitsuba(who, scene, ref_size, n, t, res_param, max_depth, image, k + 1)
+                    secs, used = r["seconds"], r["spp"]
                 rmse, rel = errors(read_rgb(image), reference)
                 times.append(secs)
                 rmses.append(rmse)
                 rels.append(rel)
-            print(f"{name:<22} {budget:>8.1f} {who:>11} {n:>5} {med(times):>7.2f} "
+            print(f"{name:<22} {budget:>8.1f} {who:>11} {used:>5} {med(times):>7.2f} "
                   f"{med(rmses):>10.5f} {med(rels):>10.5f}")
             sys.stdout.flush()
 
