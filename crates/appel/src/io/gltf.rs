@@ -20,6 +20,7 @@ use super::mesh_file::{
     AlphaMode, FileCamera, FileImage, FileMaterial, FileTexture, LoadedMesh, MeshPart, PbrParams,
     SharedPlacement,
 };
+use super::mikktspace_tangents::mikktspace_tangents;
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};
@@ -801,6 +802,12 @@ impl Ctx<'_> {
             indices: flat.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
             normals,
             uvs,
+        };
+        // Without TANGENT, glTF asks for MikkTSpace ones; only normal-mapped primitives use
+        // tangents, so the others keep none.
+        let tangents = match tangents {
+            None if prim.material().normal_texture().is_some() => mikktspace_tangents(&mesh),
+            t => t,
         };
         Ok((mesh, tangents))
     }
