@@ -77,6 +77,10 @@ pub mod sse {
         _mm_and_ps(a, b)
     }
     #[inline(always)]
+    pub unsafe fn xor(a: V, b: V) -> V {
+        _mm_xor_ps(a, b)
+    }
+    #[inline(always)]
     pub unsafe fn not(a: V) -> V {
         _mm_xor_ps(a, _mm_castsi128_ps(_mm_set1_epi32(-1)))
     }
@@ -178,6 +182,11 @@ pub mod avx {
     #[target_feature(enable = "avx2")]
     pub unsafe fn and(a: V, b: V) -> V {
         _mm256_and_ps(a, b)
+    }
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn xor(a: V, b: V) -> V {
+        _mm256_xor_ps(a, b)
     }
     #[inline]
     #[target_feature(enable = "avx2")]
