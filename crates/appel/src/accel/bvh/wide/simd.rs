@@ -43,11 +43,6 @@ pub mod sse {
     pub unsafe fn mul(a: V, b: V) -> V {
         _mm_mul_ps(a, b)
     }
-    /// Correctly rounded, as the scalar division.
-    #[inline(always)]
-    pub unsafe fn div(a: V, b: V) -> V {
-        _mm_div_ps(a, b)
-    }
     #[inline(always)]
     pub unsafe fn eq(a: V, b: V) -> V {
         _mm_cmpeq_ps(a, b)
@@ -141,12 +136,6 @@ pub mod avx {
     #[target_feature(enable = "avx2")]
     pub unsafe fn mul(a: V, b: V) -> V {
         _mm256_mul_ps(a, b)
-    }
-    /// Correctly rounded, as the scalar division.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub unsafe fn div(a: V, b: V) -> V {
-        _mm256_div_ps(a, b)
     }
     #[inline]
     #[target_feature(enable = "avx2")]
