@@ -338,7 +338,10 @@ pub(crate) fn moller_decide(abs_det: f32, u: f32, v: f32, t: f32, t_max: f32) ->
     }
     let inv = 1.0 / abs_det;
     let t = t * inv;
-    (t > 0.0 && t < t_max).then(|| PrimHit {
+    if !(t > 0.0 && t < t_max) {
+        return None;
+    }
+    Some(PrimHit {
         t,
         u: u * inv,
         v: v * inv,
