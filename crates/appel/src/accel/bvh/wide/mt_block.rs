@@ -3,18 +3,21 @@
 //! al. 2014), tested four at a time in SSE or eight (two blocks) in AVX2.
 //!
 //! The test computes, lane by lane, exactly the floating-point operations of
-//! [`crate::geometry::triangle::moller_trumbore_edges`] in the same order (no fused multiply-adds,
-//! a correctly rounded division), and keeps a lane only where that function's range checks pass
-//! or a value is NaN (ordered comparisons): the lanes of called-back primitives, whose vertices
-//! are NaN, are kept that way. A kept lane is then decided from the stored `u`, `v` and `t` by the
-//! scalar function's own last step, so a block reports exactly the hits that testing its triangles
-//! one by one reports, bit for bit, with no second pass over the triangle.
+//! [`crate::geometry::triangle::moller_trumbore_edges`] in the same order (no fused multiply-adds),
+//! and, as that function and Embree's default test do, divides by nothing: `U`, `V` and `T` with
+//! the determinant's sign flipped into them are compared with `|det|`. A lane is kept only where
+//! the scalar function's checks before its division pass (`T' > 0` added, which its check of `t`
+//! after the division implies) or a value is NaN (ordered comparisons): the lanes of called-back
+//! primitives, whose vertices are NaN, are kept that way. A kept lane is then decided from the
+//! stored `|det|`, `U'`, `V'` and `T'` by the scalar function's own last step
+//! ([`moller_decide`], one division), so a block reports exactly the hits that testing its
+//! triangles one by one reports, bit for bit, with no second pass over the triangle.
 
 #[cfg(target_arch = "x86_64")]
 use super::simd;
 use super::TriBlock;
 use crate::accel::Primitives;
-use crate::geometry::triangle::{moller_accept, moller_edges};
+use crate::geometry::triangle::{moller_decide, moller_edges};
 use crate::geometry::PrimHit;
 use crate::math::{Ray, Vec3};
 use std::mem::MaybeUninit;
@@ -56,19 +59,19 @@ impl LaneTest {
     }
 }
 
-/// The test's `u`, `v` and `t` of up to eight lanes (rows 0, 1, 2). Left uninitialised until a
-/// test writes them, as [`super::tri_block::LaneValues`]: only the lanes it kept are read, after
-/// it has written every row.
+/// The test's `|det|`, `U'`, `V'` and `T'` of up to eight lanes (rows 0-3). Left uninitialised
+/// until a test writes them, as [`super::tri_block::LaneValues`]: only the lanes it kept are read,
+/// after it has written every row.
 #[derive(Clone, Copy)]
 pub struct MtValues {
-    r: [[MaybeUninit<f32>; 8]; 3],
+    r: [[MaybeUninit<f32>; 8]; 4],
 }
 
 impl MtValues {
     #[inline(always)]
     pub fn new() -> Self {
         Self {
-            r: [[MaybeUninit::uninit(); 8]; 3],
+            r: [[MaybeUninit::uninit(); 8]; 4],
         }
     }
 
@@ -99,12 +102,12 @@ impl Default for MtValues {
 #[inline(always)]
 pub unsafe fn finish_moller(v: &MtValues, lane: usize, t_max: f32) -> Option<PrimHit> {
     let get = |row: usize| v.r[row][lane].assume_init();
-    moller_accept(get(0), get(1), get(2), t_max)
+    moller_decide(get(0), get(1), get(2), get(3), t_max)
 }
 
 /// The test's body over any lane width: `$row(r)` loads row `r` of the lanes (0-2 the vertex,
-/// 3-5 `e1`, 6-8 `e2`), `$store(r, x)` receives rows `u`, `v`, `t` when a lane is kept. Each step
-/// is the scalar test's operation, in its order.
+/// 3-5 `e1`, 6-8 `e2`), `$store(r, x)` receives rows `|det|`, `U'`, `V'`, `T'` when a lane is
+/// kept. Each step is the scalar test's operation, in its order.
 #[cfg(target_arch = "x86_64")]
 macro_rules! moller_filter {
     ($ray:expr, $t_max:expr, $row:expr, $store:expr) => {{
@@ -120,29 +123,33 @@ macro_rules! moller_filter {
         let pz = sub(mul(dx, e2y), mul(e2x, dy));
         let (e1x, e1y, e1z) = (row(3), row(4), row(5));
         let det = add(add(mul(e1x, px), mul(e1y, py)), mul(e1z, pz));
-        let inv = div(splat(1.0), det);
-        // tvec = o - p0, u = (tvec . pvec) / det
+        // The determinant's sign, flipped into `U`, `V`, `T` (exact), and its magnitude.
+        let sign = and(det, splat(-0.0));
+        let abs_det = xor(det, sign);
+        // tvec = o - p0, U' = (tvec . pvec) ^ sign
         let (tx, ty, tz) = (sub(ox, row(0)), sub(oy, row(1)), sub(oz, row(2)));
-        let u = mul(add(add(mul(tx, px), mul(ty, py)), mul(tz, pz)), inv);
-        let (zero, one) = (splat(0.0), splat(1.0));
-        let out_u = or(eq(det, zero), or(lt(u, zero), gt(u, one)));
-        // Most blocks a ray reaches miss it in every lane by `u` already.
+        let u = xor(add(add(mul(tx, px), mul(ty, py)), mul(tz, pz)), sign);
+        let zero = splat(0.0);
+        // `det == 0` is left to the decision: such a lane passes only with `U' = 0`.
+        let out_u = or(lt(u, zero), gt(u, abs_det));
+        // Most blocks a ray reaches miss it in every lane by `U'` already.
         if mask(out_u) == 0xff >> (8 - LANES) {
             return 0;
         }
-        // qvec = tvec x e1, v = (d . qvec) / det, t = (e2 . qvec) / det
+        // qvec = tvec x e1, V' = (d . qvec) ^ sign, T' = (e2 . qvec) ^ sign
         let qx = sub(mul(ty, e1z), mul(e1y, tz));
         let qy = sub(mul(tz, e1x), mul(e1z, tx));
         let qz = sub(mul(tx, e1y), mul(e1x, ty));
-        let v = mul(add(add(mul(dx, qx), mul(dy, qy)), mul(dz, qz)), inv);
-        let t = mul(add(add(mul(e2x, qx), mul(e2y, qy)), mul(e2z, qz)), inv);
-        let out_v = or(lt(v, zero), gt(add(u, v), one));
-        let out_t = or(le(t, zero), ge(t, splat($t_max)));
+        let v = xor(add(add(mul(dx, qx), mul(dy, qy)), mul(dz, qz)), sign);
+        let t = xor(add(add(mul(e2x, qx), mul(e2y, qy)), mul(e2z, qz)), sign);
+        let out_v = or(lt(v, zero), gt(add(u, v), abs_det));
+        let out_t = or(le(t, zero), gt(t, mul(abs_det, splat($t_max))));
         let kept = mask(not(or(out_u, or(out_v, out_t))));
         if kept != 0 {
-            put(0, u);
-            put(1, v);
-            put(2, t);
+            put(0, abs_det);
+            put(1, u);
+            put(2, v);
+            put(3, t);
         }
         kept
     }};
@@ -207,13 +214,14 @@ pub(super) fn moller_candidates_scalar(
     let mut mask = 0;
     for lane in 0..4 {
         let row = |r: usize| Vec3::new(b.v[r][lane], b.v[r + 1][lane], b.v[r + 2][lane]);
-        let (det, u, v, t) = crate::geometry::triangle::moller_values(ray, row(0), row(3), row(6));
-        // Not `!(0.0..=1.0).contains(&u)`: a NaN `u` is kept, as the SIMD comparisons keep it.
+        let vals = crate::geometry::triangle::moller_values(ray, row(0), row(3), row(6));
+        let [abs_det, u, v, t] = vals;
+        // Not `!(0.0..=abs_det).contains(&u)`: a NaN `u` is kept, as the SIMD comparisons keep it.
         #[allow(clippy::manual_range_contains)]
-        let out_u = det == 0.0 || u < 0.0 || u > 1.0;
-        let out_v = v < 0.0 || u + v > 1.0;
-        let out_t = t <= 0.0 || t >= t_max;
-        for (r, x) in [u, v, t].into_iter().enumerate() {
+        let out_u = u < 0.0 || u > abs_det;
+        let out_v = v < 0.0 || u + v > abs_det;
+        let out_t = t <= 0.0 || t > abs_det * t_max;
+        for (r, x) in vals.into_iter().enumerate() {
             out.set(r, first_lane + lane, x);
         }
         mask |= (!(out_u || out_v || out_t) as u32) << lane;

@@ -43,11 +43,6 @@ pub mod sse {
     pub unsafe fn mul(a: V, b: V) -> V {
         _mm_mul_ps(a, b)
     }
-    /// Correctly rounded, as the scalar division.
-    #[inline(always)]
-    pub unsafe fn div(a: V, b: V) -> V {
-        _mm_div_ps(a, b)
-    }
     #[inline(always)]
     pub unsafe fn eq(a: V, b: V) -> V {
         _mm_cmpeq_ps(a, b)
@@ -75,6 +70,10 @@ pub mod sse {
     #[inline(always)]
     pub unsafe fn and(a: V, b: V) -> V {
         _mm_and_ps(a, b)
+    }
+    #[inline(always)]
+    pub unsafe fn xor(a: V, b: V) -> V {
+        _mm_xor_ps(a, b)
     }
     #[inline(always)]
     pub unsafe fn not(a: V) -> V {
@@ -138,12 +137,6 @@ pub mod avx {
     pub unsafe fn mul(a: V, b: V) -> V {
         _mm256_mul_ps(a, b)
     }
-    /// Correctly rounded, as the scalar division.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub unsafe fn div(a: V, b: V) -> V {
-        _mm256_div_ps(a, b)
-    }
     #[inline]
     #[target_feature(enable = "avx2")]
     pub unsafe fn eq(a: V, b: V) -> V {
@@ -178,6 +171,11 @@ pub mod avx {
     #[target_feature(enable = "avx2")]
     pub unsafe fn and(a: V, b: V) -> V {
         _mm256_and_ps(a, b)
+    }
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub unsafe fn xor(a: V, b: V) -> V {
+        _mm256_xor_ps(a, b)
     }
     #[inline]
     #[target_feature(enable = "avx2")]
