@@ -331,6 +331,7 @@ impl Geometry {
     }
 
     /// The material of the surface hit (an index into the scene's materials).
+    #[inline]
     pub fn material(&self, hit: &SceneHit) -> u32 {
         let shapes = if hit.instance == NO_INSTANCE {
             &self.shapes
@@ -507,6 +508,7 @@ impl Geometry {
     }
 
     /// Turns an acceleration-structure hit into a scene hit.
+    #[inline]
     pub fn scene_hit(&self, hit: Hit) -> SceneHit {
         let r = self.prims.get(hit.prim as usize);
         if let ShapeKind::Instances = self.shapes[r.shape as usize].kind {
