@@ -91,3 +91,64 @@ impl Scene {
         self.geometry.intersect_all::<ANY>(ray, &mut t_max, stats)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+    use crate::scene::builtin::builtin_scene;
+    use crate::scene::description_from_str;
+    use crate::scene::parse::Syntax;
+    use std::path::Path;
+
+    /// The queries of a scene of one leaf (Whitted's spheres and rectangle), asked of
+    /// `Geometry::intersect_all` directly, answer what the structure's traversal answers: the same
+    /// closest hits, the same any-hit answers and the same counts, on camera rays and on rays from
+    /// all around, with and without a `t_max`.
+    #[test]
+    fn one_leaf_queries_answer_as_the_structure() {
+        let text = builtin_scene("whitted").unwrap();
+        let d = description_from_str(text, Syntax::Toml, Path::new("whitted")).unwrap();
+        let scene = Scene::new(&d, Path::new(".")).unwrap();
+        assert!(scene.one_leaf(), "the scene is expected to be one leaf");
+        let mut rays: Vec<Ray> = (0..40)
+            .flat_map(|j| (0..60).map(move |i| (i as f32 * 10.7, j as f32 * 11.9)))
+            .map(|(x, y)| scene.camera.ray(x, y))
+            .collect();
+        let mut seed = 0x9e37_79b9_u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32 * 2.0 - 1.0
+        };
+        for _ in 0..4000 {
+            let origin = Vec3::new(next() * 4.0, next() * 2.0 + 1.0, next() * 4.0);
+            rays.push(Ray::new(origin, Vec3::new(next(), next(), next())));
+        }
+        let (mut hits, mut occluded) = (0, 0);
+        for (k, ray) in rays.iter().enumerate() {
+            let t_max = if k % 3 == 0 { 2.5 } else { f32::INFINITY };
+            let (mut fast, mut slow) = (TraversalStats::default(), TraversalStats::default());
+            let hit = scene.intersect(ray, t_max, &mut fast);
+            let bounded = scene
+                .accel
+                .intersect(&scene.geometry, ray, t_max, &mut slow)
+                .map(|h| scene.geometry.scene_hit(h));
+            let limit = bounded.map_or(t_max, |h| h.t);
+            let expected = scene.geometry.intersect_unbounded(ray, limit).or(bounded);
+            assert_eq!(hit, expected, "ray {k}");
+            let any = scene.occluded(ray, t_max, &mut fast);
+            assert_eq!(
+                any,
+                scene.accel.occluded(&scene.geometry, ray, t_max, &mut slow)
+            );
+            assert_eq!(fast, slow, "ray {k}");
+            hits += hit.is_some() as usize;
+            occluded += any as usize;
+        }
+        // Both answers occur often enough for the comparison to mean something.
+        assert!(hits > rays.len() / 4 && hits < rays.len() * 3 / 4, "{hits}");
+        assert!(occluded == hits);
+    }
+}
