@@ -108,6 +108,14 @@ macro_rules! define_structures {
                 }
             }
 
+            /// See [`Structure::single_leaf`]: decided at the build, so asked at every ray.
+            #[inline(always)]
+            pub fn single_leaf(&self) -> Option<usize> {
+                match self {
+                    $(Accel::$Variant(a) => Structure::single_leaf(a),)*
+                }
+            }
+
             /// Whether [`Self::intersect_packet`] traces packets together (rather than ray by ray).
             pub fn has_packets(&self) -> bool {
                 match self {

@@ -47,6 +47,14 @@ pub trait Structure: Clone + Debug + Send + Sync + Sized {
     /// What the structure costs: build time, bytes, nodes.
     fn stats(&self) -> AccelStats;
 
+    /// `Some(n)` when the structure is a single leaf of `n` primitives that are all called back
+    /// (none a gathered triangle), so that each query is [`Primitives::intersect_all`] (when `n` is
+    /// every primitive) counted as one ray and `n` tests: a caller may then ask it directly, past
+    /// the structure's layers, and get the same hits. `None` (the default) otherwise.
+    fn single_leaf(&self) -> Option<usize> {
+        None
+    }
+
     /// Whether [`Self::intersect_packet`] traces packets together rather than ray by ray.
     fn has_packets(&self) -> bool {
         false

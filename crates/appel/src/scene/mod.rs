@@ -19,6 +19,7 @@ mod mesh_shape;
 pub mod origins;
 pub mod parse;
 mod progress;
+mod queries;
 mod sequence;
 mod shading_materials;
 mod textures;
@@ -40,13 +41,13 @@ pub use mesh_shape::FileExtras;
 pub use progress::{LoadStep, SceneOptions};
 pub use sequence::{FrameUpdate, Sequence, REBUILD_FACTOR};
 
-use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats, TraversalStats};
+use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats};
 use crate::error::{Error, Location, Result};
 use crate::geometry::{
     Cylinder, Implicit, ObjectTransform, Plane, SdfGrid, SdfNormals, Sphere, Torus, TriangleMesh,
     TriangleTest,
 };
-use crate::math::{Ray, Vec2, Vec3};
+use crate::math::{Vec2, Vec3};
 use parse::{parse_description, toml_span, PathSeg, Syntax};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -502,55 +503,6 @@ impl Scene {
         })
     }
 
-    /// Closest hit in `(0, t_max)`.
-    #[inline]
-    pub fn intersect(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<SceneHit> {
-        let bounded = self
-            .accel
-            .intersect(&self.geometry, ray, t_max, stats)
-            .map(|h| self.geometry.scene_hit(h));
-        let t_max = bounded.map_or(t_max, |h| h.t);
-        self.geometry.intersect_unbounded(ray, t_max).or(bounded)
-    }
-
-    /// [`Self::intersect`] of each of `rays` (`out[i]` for `rays[i]`), for coherent rays such as the
-    /// camera rays of neighbouring pixels: where the structure has a packet path (the 8-wide BVH
-    /// over more than one leaf) they are traced in packets of [`crate::accel::bvh::PACKET`],
-    /// otherwise one by one. The hits are the same either way; only the cost differs (a scene
-    /// of one leaf, such as Whitted's, has nothing for a packet to share).
-    pub fn intersect_coherent(
-        &self,
-        rays: &[Ray],
-        t_max: f32,
-        out: &mut [Option<SceneHit>],
-        stats: &mut TraversalStats,
-    ) {
-        if !self.accel.has_packets() {
-            for (ray, o) in rays.iter().zip(out.iter_mut()) {
-                *o = self.intersect(ray, t_max, stats);
-            }
-            return;
-        }
-        const PACKET: usize = crate::accel::bvh::PACKET;
-        for (rays, out) in rays.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
-            let mut hits = [None; PACKET];
-            self.accel
-                .intersect_packet(&self.geometry, rays, t_max, &mut hits, stats);
-            for ((ray, hit), o) in rays.iter().zip(hits).zip(out.iter_mut()) {
-                let bounded = hit.map(|h| self.geometry.scene_hit(h));
-                let t_max = bounded.map_or(t_max, |h| h.t);
-                *o = self.geometry.intersect_unbounded(ray, t_max).or(bounded);
-            }
-        }
-    }
-
-    /// Whether anything lies on the ray in `(0, t_max)`.
-    #[inline]
-    pub fn occluded(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> bool {
-        self.geometry.occluded_unbounded(ray, t_max)
-            || self.accel.occluded(&self.geometry, ray, t_max, stats)
-    }
-
     /// Replaces the camera, lights and environment with those of `d` (geometry and settings stay):
     /// used to frame a bare mesh file once its bounds are known.
     pub fn set_view(&mut self, d: &Description) -> Result<()> {
@@ -565,10 +517,6 @@ impl Scene {
         self.background = d.environment.background.into();
         self.ambient = d.environment.ambient.into();
         Ok(())
-    }
-
-    pub fn material(&self, hit: &SceneHit) -> &Material {
-        &self.materials[self.geometry.material(hit) as usize]
     }
 
     pub fn accel_stats(&self) -> AccelStats {

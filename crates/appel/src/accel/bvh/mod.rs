@@ -209,6 +209,16 @@ impl Bvh {
         }
     }
 
+    /// See [`Structure::single_leaf`]: a wide tree that is one leaf without triangles.
+    #[inline(always)]
+    pub fn single_leaf(&self) -> Option<usize> {
+        match &self.wide {
+            Wide::Binary => None,
+            Wide::W4(w) => w.single_leaf(),
+            Wide::W8(w) => w.single_leaf(),
+        }
+    }
+
     /// Whether [`Self::intersect_packet`] traces packets together: the 8-wide layout of more than
     /// one leaf, on a CPU with AVX2.
     pub fn has_packets(&self) -> bool {
@@ -288,6 +298,11 @@ impl Structure for Bvh {
 
     fn has_packets(&self) -> bool {
         Bvh::has_packets(self)
+    }
+
+    #[inline(always)]
+    fn single_leaf(&self) -> Option<usize> {
+        Bvh::single_leaf(self)
     }
 
     fn intersect_packet<P: Primitives>(

@@ -261,6 +261,14 @@ impl<const W: usize> WideBvh<W> {
         self.traverse_sized_as::<P, ANY, true, LEAVES>(prims, ray, t_max, stats)
     }
 
+    /// The primitive count of a tree that is one leaf of called-back primitives, whose queries
+    /// [`Self::traverse_root_leaf`] answers by [`Primitives::intersect_all`] when it holds them all.
+    #[inline(always)]
+    pub(crate) fn single_leaf(&self) -> Option<usize> {
+        let leaf = self.root_leaf?;
+        (leaf & node::NO_TRIANGLES != 0).then(|| node::leaf_range(leaf).1)
+    }
+
     /// A tree that is a single leaf: its primitives tested directly, without the set-up of a
     /// node traversal, which costs more than a handful of primitive tests (Whitted's scene).
     #[inline(never)]
