@@ -203,101 +203,50 @@ fn a_negative_handedness_flips_the_bitangent() {
     );
 }
 
-/// A node mirroring x carries the tangent to -x and turns its handedness around, so that the
-/// bitangent, which the mirror does not move, still points to +y.
-#[test]
-fn a_mirroring_node_keeps_the_bitangent_where_it_was() {
+/// Under a transform mirroring x (`instanced`: the transform of an instance of a shared mesh,
+/// applied at the hit; else the node's, baked into the mesh), the tangent goes to -x and its
+/// handedness turns around, so that the bitangent, which the mirror does not move, still points
+/// to +y.
+fn assert_a_mirror_keeps_the_bitangent(instanced: bool) {
     let right = [[1.0, 0.0, 0.0, 1.0f32]; 4];
     let mirror_x = [
         -1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
     ];
-    let plus = brightness(
-        Some(&right),
-        Some(mirror_x),
-        false,
-        TILT_Y,
-        light_from(Vec3::Y),
-    );
-    let minus = brightness(
-        Some(&right),
-        Some(mirror_x),
-        false,
-        TILT_Y,
-        light_from(-Vec3::Y),
-    );
+    let lit = |tilt, side| {
+        brightness(
+            Some(&right),
+            Some(mirror_x),
+            instanced,
+            tilt,
+            light_from(side),
+        )
+    };
+    let what = if instanced {
+        "mirrored instance"
+    } else {
+        "mirrored"
+    };
     assert_tilts_toward(
-        plus,
-        minus,
-        "mirrored, map tilted to +y, lit from +y and from -y",
+        lit(TILT_Y, Vec3::Y),
+        lit(TILT_Y, -Vec3::Y),
+        &format!("{what}, map tilted to +y, lit from +y and from -y"),
     );
     // And the tangent itself went to -x with the mirror.
-    let x = brightness(
-        Some(&right),
-        Some(mirror_x),
-        false,
-        TILT_X,
-        light_from(Vec3::X),
-    );
-    let minus_x = brightness(
-        Some(&right),
-        Some(mirror_x),
-        false,
-        TILT_X,
-        light_from(-Vec3::X),
-    );
     assert_tilts_toward(
-        minus_x,
-        x,
-        "mirrored, map tilted to +x, lit from -x and from +x",
+        lit(TILT_X, -Vec3::X),
+        lit(TILT_X, Vec3::X),
+        &format!("{what}, map tilted to +x, lit from -x and from +x"),
     );
 }
 
-/// The same through an instance: a mesh that two nodes place is shared, and the mirror is the
-/// instance's transform, applied at the hit.
+#[test]
+fn a_mirroring_node_keeps_the_bitangent_where_it_was() {
+    assert_a_mirror_keeps_the_bitangent(false);
+}
+
 #[test]
 fn a_mirroring_instance_keeps_the_bitangent_where_it_was() {
-    let right = [[1.0, 0.0, 0.0, 1.0f32]; 4];
-    let mirror_x = [
-        -1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
-    ];
-    let plus = brightness(
-        Some(&right),
-        Some(mirror_x),
-        true,
-        TILT_Y,
-        light_from(Vec3::Y),
-    );
-    let minus = brightness(
-        Some(&right),
-        Some(mirror_x),
-        true,
-        TILT_Y,
-        light_from(-Vec3::Y),
-    );
-    assert_tilts_toward(
-        plus,
-        minus,
-        "mirrored instance, map tilted to +y, lit from +y and from -y",
-    );
-    let x = brightness(
-        Some(&right),
-        Some(mirror_x),
-        true,
-        TILT_X,
-        light_from(Vec3::X),
-    );
-    let minus_x = brightness(
-        Some(&right),
-        Some(mirror_x),
-        true,
-        TILT_X,
-        light_from(-Vec3::X),
-    );
-    assert_tilts_toward(
-        minus_x,
-        x,
-        "mirrored instance, map tilted to +x, lit from -x and from +x",
-    );
+    assert_a_mirror_keeps_the_bitangent(true);
 }
 
 /// A `TANGENT` accessor of the wrong type, with the wrong number of elements, or holding a
