@@ -286,7 +286,7 @@ impl Converter {
             }
             "Integrator" => {
                 self.options_only(d)?;
-                self.options.integrator(d)?;
+                self.options.integrator(d, &mut self.warnings)?;
             }
             "Accelerator" => {
                 self.options_only(d)?;

@@ -191,12 +191,25 @@ impl SceneOptions {
         Ok(())
     }
 
-    pub fn integrator(&mut self, d: &Directive) -> Result<()> {
+    /// `Integrator`: pbrt's other estimators of the light transport equation (bidirectional,
+    /// Metropolis, photon mapping, light tracing) converge to the image the path tracer converges
+    /// to (Veach 1997, ch. 8-11; SPPM in the limit of its shrinking radius, Hachisuka and Jensen
+    /// 2009), so they are rendered with it and a warning says so; an integrator that computes
+    /// something else (ambient occlusion, AOVs) is an error.
+    pub fn integrator(&mut self, d: &Directive, warnings: &mut Vec<String>) -> Result<()> {
         match d.strings[0].as_str() {
             "path" | "volpath" => {}
+            same @ ("bdpt" | "mlt" | "sppm" | "lightpath" | "simplepath" | "randomwalk"
+            | "simplevolpath") => warnings.push(format!(
+                "{}: Integrator \"{same}\" is rendered with Appel's path tracer: it converges \
+                 to the same image, with other noise",
+                d.loc.describe()
+            )),
             other => {
                 return Err(d.loc.error(format!(
-                    "unsupported integrator \"{other}\" (supported: path, volpath)"
+                    "unsupported integrator \"{other}\" (supported: path, volpath; bdpt, mlt, \
+                     sppm, lightpath, simplepath, randomwalk and simplevolpath are rendered as \
+                     path)"
                 )))
             }
         }

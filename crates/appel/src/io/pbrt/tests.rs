@@ -73,6 +73,33 @@ fn maxdepth_counts_bounces() {
     assert_eq!(s.description.render.spp, 16);
 }
 
+/// Integrators that estimate the same light transport are path traced with a warning at their
+/// line, keeping their depth; one that computes something else is an error.
+#[test]
+fn other_estimators_of_the_same_light_are_path_traced() {
+    for name in ["bdpt", "sppm", "mlt"] {
+        let s = load(&format!(
+            "Integrator \"{name}\" \"integer maxdepth\" 7\n{CAMERA}WorldBegin\n"
+        ))
+        .unwrap();
+        assert_eq!(s.description.render.integrator, IntegratorName::Path);
+        assert_eq!(s.description.render.max_depth, 8);
+        assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+        assert!(
+            s.warnings[0].contains("a.pbrt:1:1") && s.warnings[0].contains(name),
+            "{:?}",
+            s.warnings
+        );
+    }
+    let e = err(&format!(
+        "Integrator \"ambientocclusion\"\n{CAMERA}WorldBegin\n"
+    ));
+    assert!(
+        e.contains("a.pbrt:1:1") && e.contains("unsupported integrator \"ambientocclusion\""),
+        "{e}"
+    );
+}
+
 #[test]
 fn errors_name_the_file_and_line() {
     let e = err(&format!("{CAMERA}WorldBegin\nFoo 1 2\n"));
