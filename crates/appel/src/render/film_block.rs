@@ -7,6 +7,17 @@
 use super::filter::Filter;
 use crate::math::{Vec2, Vec3};
 
+/// Film positions at most this far from the origin take [`FilmBlock::add_within_one`]'s path,
+/// whose integer floor is exact there (and whose pixel indices fit an `i32`); NaN never does.
+const PIXEL_LIMIT: f32 = (1 << 30) as f32;
+
+/// `floor(x)` as an integer, for `|x| < 2^30`: truncation, one less for negative fractions.
+#[inline]
+fn floor_to_int(x: f32) -> i32 {
+    let t = x as i32;
+    t - ((t as f32) > x) as i32
+}
+
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PixelSums {
     /// Sum of weight times value, per channel.
@@ -102,6 +113,10 @@ impl FilmBlock {
             return;
         }
         let r = filter.radius();
+        if r <= 1.0 && p.x.abs() < PIXEL_LIMIT && p.y.abs() < PIXEL_LIMIT {
+            self.add_within_one(filter, p, v);
+            return;
+        }
         // Pixel centres c = i + 0.5 with |p - c| < r.
         let lo = |x: f32, o: i32| ((x - 0.5 - r).floor() as i32 + 1 - o).max(0);
         let hi = |x: f32, o: i32, n: u32| ((x - 0.5 + r).ceil() as i32 - 1 - o).min(n as i32 - 1);
@@ -115,6 +130,35 @@ impl FilmBlock {
             for i in i0..=i1 {
                 let w = wy * filter.eval(p.x - ((i + self.x0) as f32 + 0.5));
                 if w != 0.0 {
+                    self.sums[j as usize * self.width as usize + i as usize].add(v, w);
+                }
+            }
+        }
+    }
+
+    /// [`Self::add_sample`] for a filter of radius at most 1 (Mitsuba's default tent, the box of
+    /// radius 1/2): the only pixel centres nearer than 1 on an axis are the one at or left of
+    /// `p` and the next, so the splat is these 2x2 pixels' weights, without the general loop's
+    /// bounds (a floor and a ceiling each, library calls without SSE4.1) and index arithmetic.
+    /// Every filter's weight is zero at and beyond its radius, so the pixels left out weighed
+    /// nothing; the weights are computed as the loop computes them, and zeros skipped as there.
+    #[inline]
+    fn add_within_one(&mut self, filter: &Filter, p: Vec2, v: Vec3) {
+        let (ix, iy) = (floor_to_int(p.x - 0.5), floor_to_int(p.y - 0.5));
+        let wx = [0, 1].map(|k| filter.eval(p.x - ((ix + k) as f32 + 0.5)));
+        for dy in 0..2 {
+            let j = iy + dy - self.y0;
+            if j < 0 || j >= self.height as i32 {
+                continue;
+            }
+            let wy = filter.eval(p.y - ((iy + dy) as f32 + 0.5));
+            if wy == 0.0 {
+                continue;
+            }
+            for (dx, wx) in (0..2).zip(wx) {
+                let i = ix + dx - self.x0;
+                let w = wy * wx;
+                if i >= 0 && i < self.width as i32 && w != 0.0 {
                     self.sums[j as usize * self.width as usize + i as usize].add(v, w);
                 }
             }
@@ -154,6 +198,80 @@ mod tests {
         assert!((w(1, 2) - 0.25).abs() < 1e-6);
         assert_eq!(w(0, 1), 0.0);
         assert_eq!(w(1, 0), 0.0);
+    }
+
+    /// The 2x2 splat of the filters of radius at most 1 adds what the general loop adds, bit for
+    /// bit, at positions on and next to pixel edges and centres, inside and at the block's borders.
+    #[test]
+    fn the_splat_within_one_pixel_is_the_general_loop() {
+        fn general(b: &mut FilmBlock, filter: &Filter, p: Vec2, v: Vec3) {
+            let r = filter.radius();
+            for j in 0..b.height as i32 {
+                let wy = filter.eval(p.y - ((j + b.y0) as f32 + 0.5));
+                for i in 0..b.width as i32 {
+                    let w = wy * filter.eval(p.x - ((i + b.x0) as f32 + 0.5));
+                    let near = (p.x - ((i + b.x0) as f32 + 0.5)).abs() < r
+                        && (p.y - ((j + b.y0) as f32 + 0.5)).abs() < r;
+                    if near && w != 0.0 {
+                        b.sums[j as usize * b.width as usize + i as usize].add(v, w);
+                    }
+                }
+            }
+        }
+        let filters = [
+            Filter::Tent { radius: 1.0 },
+            Filter::Tent { radius: 0.7 },
+            Filter::Box { radius: 1.0 },
+            Filter::Box { radius: 0.75 },
+            Filter::Gaussian { stddev: 0.25 },
+        ];
+        let coords = [
+            -1.5f32,
+            -1.0,
+            -0.5,
+            -0.25,
+            0.0,
+            0.3,
+            0.5,
+            0.999_999_9,
+            1.0,
+            2.5,
+            3.75,
+            4.0,
+            4.5,
+        ];
+        for filter in &filters {
+            for &x in &coords {
+                for &y in &coords {
+                    let (p, v) = (Vec2::new(x, y), Vec3::new(1.0, 0.25, 3.0));
+                    let mut fast = FilmBlock::new(-1, 0, 5, 4);
+                    let mut slow = fast.clone();
+                    fast.add_sample(filter, p, v);
+                    general(&mut slow, filter, p, v);
+                    assert_eq!(fast.sums, slow.sums, "{filter:?} at {p:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn floor_to_int_is_floor() {
+        for x in [
+            -3.5f32,
+            -3.0,
+            -0.5,
+            -1e-7,
+            0.0,
+            -0.0,
+            1e-7,
+            0.5,
+            2.0,
+            2.999_999_8,
+            1e9,
+            -1e9,
+        ] {
+            assert_eq!(floor_to_int(x), x.floor() as i32, "{x}");
+        }
     }
 
     #[test]

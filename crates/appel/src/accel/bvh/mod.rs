@@ -61,6 +61,12 @@ impl Bvh {
         let items = (opts.width > 2 && !opts.compact && opts.pairs)
             .then(|| pairs::pair_up(prims))
             .flatten();
+        let item_count = items.as_ref().map_or(n, Vec::len);
+        let opts = if build::SMALL_TREE_ITEMS.contains(&item_count) {
+            opts.for_small_tree()
+        } else {
+            opts
+        };
         let build_opts = if items.is_some() {
             opts.for_pairs()
         } else {
