@@ -1301,6 +1301,89 @@ mod tests {
         assert!(hits > 200, "{hits}");
     }
 
+    /// The twelve triangles of the box `lo..hi`, two to a face.
+    fn cuboid(lo: Vec3, hi: Vec3) -> Vec<[Vec3; 3]> {
+        let c = |i: usize| {
+            Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            )
+        };
+        let faces = [
+            [0, 1, 3, 2],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 3, 7, 6],
+            [0, 2, 6, 4],
+            [1, 3, 7, 5],
+        ];
+        faces
+            .iter()
+            .flat_map(|&[a, b, d, e]| [[c(a), c(b), c(d)], [c(a), c(d), c(e)]])
+            .collect()
+    }
+
+    /// A room of 36 triangles (its six walls and two boxes, a Cornell box's count) gets the small
+    /// tree's leaves of at most four triangles, and rays from inside test fewer triangles than in
+    /// the tree of the default leaves, which a file's explicit `traversal_cost` keeps; both answer
+    /// like brute force.
+    #[test]
+    fn a_room_of_walls_gets_small_leaves_and_fewer_tests() {
+        let mut tris = cuboid(Vec3::splat(-1.0), Vec3::splat(1.0));
+        tris.extend(cuboid(Vec3::new(-0.8, -1.0, -0.7), Vec3::new(-0.2, 0.2, -0.1)));
+        tris.extend(cuboid(Vec3::new(0.2, -1.0, 0.1), Vec3::new(0.7, -0.4, 0.6)));
+        let m = crate::accel::testutil::mesh(tris);
+        let p = prims(&m);
+        let mut r = crate::accel::testutil::Rng(31);
+        let inside: Vec<Ray> = (0..400)
+            .map(|_| Ray::new(r.v(-0.95, 0.95), r.v(-1.0, 1.0)))
+            .collect();
+        let mut tests_per_tree = vec![];
+        for opts in [
+            BvhOptions::default(),
+            BvhOptions {
+                traversal_cost: 2.5,
+                ..BvhOptions::default()
+            },
+        ] {
+            let bvh = Bvh::build_with(&p, opts);
+            let Wide::W8(w) = &bvh.wide else {
+                panic!("not 8 wide")
+            };
+            well_formed_over(w, 36, Some(&p));
+            let largest = w
+                .nodes
+                .iter()
+                .flat_map(|n| n.child)
+                .filter(|&c| c != node::EMPTY && node::is_leaf(c))
+                .map(|c| leaf_triangles(w, c).len())
+                .max()
+                .unwrap();
+            let hits = agrees_with_brute(
+                &p,
+                &inside,
+                |r, t, s| w.traverse::<_, false>(&p, r, t, s),
+                |r, t, s| w.traverse_sized::<_, true, false>(&p, r, t, s).is_some(),
+            );
+            assert!(hits > 700, "{hits}");
+            let mut s = crate::accel::TraversalStats::default();
+            for ray in &inside {
+                w.traverse::<_, false>(&p, ray, f32::INFINITY, &mut s);
+            }
+            tests_per_tree.push((largest, s.prim_tests));
+        }
+        let [(small_leaf, small_tests), (default_leaf, default_tests)] = tests_per_tree[..] else {
+            unreachable!()
+        };
+        assert!(small_leaf <= 4, "{small_leaf}");
+        assert!(default_leaf > 4, "{default_leaf}");
+        assert!(
+            2 * small_tests < default_tests,
+            "{small_tests} against {default_tests}"
+        );
+    }
+
     /// A tree of one leaf is tested without a node visit, and answers like brute force.
     #[test]
     fn a_single_leaf_tree_skips_the_node_test() {
