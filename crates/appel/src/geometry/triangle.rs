@@ -461,13 +461,8 @@ mod tests {
     /// (where the two differ at all) and at random points, with finite and infinite `t_max`.
     #[test]
     fn division_free_moller_decides_as_dividing_first_but_at_edges() {
-        let mut s = 9u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rng = crate::accel::testutil::Rng(9);
+        let mut next = || rng.f();
         // Per kind of ray (aimed at an edge, aimed at random): hits, and decisions that differ.
         let (mut hits, mut differ) = ([0usize; 2], [0usize; 2]);
         for i in 0..200_000 {
