@@ -2,7 +2,7 @@
 //! parameters, under the description's keys (see `scene::origins`).
 
 use super::super::document::Object;
-use crate::scene::origins::Origin;
+use crate::description::origins::Origin;
 
 /// Description keys filled from a Mitsuba parameter of another name: `(key, parameter)`.
 const RENAMED: &[(&str, &str)] = &[
