@@ -49,7 +49,7 @@ pub struct Description {
     pub meshes: BTreeMap<String, MeshDesc>,
     #[serde(default, rename = "instance", skip_serializing_if = "Vec::is_empty")]
     pub instances: Vec<InstanceDesc>,
-    /// `[animation]`: the scene is a sequence of frames (see `scene::animation`).
+    /// `[animation]`: the scene is a sequence of frames (see `animation`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub animation: Option<AnimationDesc>,
 }

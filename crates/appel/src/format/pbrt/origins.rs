@@ -1,4 +1,4 @@
-//! Where each entry of the converted description was written (see `scene::origins`): the
+//! Where each entry of the converted description was written (see `description::origins`): the
 //! directive that made a shape, light, material, object or instance, with its parameters, and
 //! the scene-wide directives behind the camera and the render settings.
 

@@ -1,5 +1,5 @@
 //! Where each entry of the converted description was written: the element that made it and its
-//! parameters, under the description's keys (see `scene::origins`).
+//! parameters, under the description's keys (see `description::origins`).
 
 use super::super::document::Object;
 use crate::description::origins::Origin;
