@@ -209,7 +209,9 @@ def test_load_reads_a_mesh_inside_an_archive(tmp_path):
     s = appel.load(f"{archive}:tetra/inner.obj", width=16, height=12)
     assert s.size == (16, 12)
     assert s.triangle_count == 4
-    assert s.bounds == ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+    lo, hi = s.bounds
+    np.testing.assert_array_equal(lo, [0, 0, 0])
+    np.testing.assert_array_equal(hi, [1, 1, 1])
     with pytest.raises(ValueError, match="missing.obj"):
         appel.load(f"{archive}:missing.obj")
     with pytest.raises(FileNotFoundError, match="no such mesh file"):

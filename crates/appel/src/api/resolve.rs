@@ -319,4 +319,34 @@ mod tests {
         let e = resolve_description(&r).unwrap_err().to_string();
         assert!(e.contains("picks a camera of a glTF file"), "{e}");
     }
+
+    #[test]
+    fn a_mesh_inside_an_archive_is_built_and_framed() {
+        use std::io::Write;
+        let dir = tempfile::tempdir().unwrap();
+        let archive = dir.path().join("assets.zip");
+        let mut zip = zip::ZipWriter::new(std::fs::File::create(&archive).unwrap());
+        let options = zip::write::SimpleFileOptions::default();
+        zip.start_file("other.obj", options).unwrap();
+        zip.write_all(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+            .unwrap();
+        zip.start_file("dir/inner.obj", options).unwrap();
+        zip.write_all(b"v 0 0 0\nv 2 0 0\nv 0 2 0\nv 0 0 2\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+            .unwrap();
+        zip.finish().unwrap();
+        let name = format!("{}:dir/inner.obj", archive.display());
+        let small = |d: &mut Description| {
+            (d.camera.width, d.camera.height) = (20, 10);
+            Ok(())
+        };
+        let (resolved, scene) =
+            resolve_scene(&request(&name, &[], &small), SceneOptions::default()).unwrap();
+        assert!(resolved.framed_model);
+        assert_eq!(resolved.base_dir, dir.path());
+        assert_eq!(scene.geometry.triangle_count(), 4);
+        assert_eq!(scene.geometry.bounds().max, crate::math::Vec3::splat(2.0));
+        // Framed at the box's centre, at the overridden size.
+        assert_eq!(resolved.description.camera.look_at, [1.0; 3]);
+        assert_eq!((scene.camera.width, scene.camera.height), (20, 10));
+    }
 }
