@@ -3,9 +3,9 @@
 //! report the frame time, frames per second and the rays of one frame by kind. For the Monte Carlo
 //! integrators (path, direct), [`bench_samples`] reports samples per second instead.
 
-use crate::error::{Error, Result};
-use crate::render::{render, RayCounts, RenderOptions};
-use crate::scene::{IntegratorKind, Scene};
+use appel::error::{Error, Result};
+use appel::render::{render, RayCounts, RenderOptions};
+use appel::scene::{IntegratorKind, Scene};
 use std::time::Instant;
 
 /// What `N` frames of one scene took.
@@ -188,9 +188,9 @@ pub fn bench_samples(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::builtin::builtin_scene;
-    use crate::scene::description_from_str;
-    use crate::scene::parse::Syntax;
+    use appel::scene::builtin::builtin_scene;
+    use appel::scene::description_from_str;
+    use appel::scene::parse::Syntax;
     use std::path::Path;
 
     fn whitted(w: u32, h: u32) -> Scene {

@@ -3,10 +3,10 @@
 //! `appel gen cloth`, under a rebuilt top level over keyframed instances), for a refitted top
 //! level (the flag as a `[[shape]]`), and for structures that are rebuilt every frame.
 
-use appel::gen::{cloth_scene, GenOptions};
 use appel::render::{render, Film, RenderOptions};
 use appel::scene::animation::at_frame;
 use appel::scene::{load_description, Description, Scene, Sequence};
+use appel_gen::{cloth_scene, GenOptions};
 use std::path::Path;
 
 fn image(scene: &Scene) -> Film {

@@ -7,13 +7,9 @@
 
 pub mod accel;
 pub mod api;
-pub mod bench;
-pub mod bench_frames;
 pub mod error;
-pub mod gen;
 pub mod geometry;
 pub mod io;
-pub mod lecture2d;
 pub mod math;
 pub mod output;
 pub mod query;
