@@ -188,9 +188,9 @@ pub fn bench_samples(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use appel::description::description_from_str;
+    use appel::description::parse::Syntax;
     use appel::scene::builtin::builtin_scene;
-    use appel::scene::description_from_str;
-    use appel::scene::parse::Syntax;
     use std::path::Path;
 
     fn whitted(w: u32, h: u32) -> Scene {

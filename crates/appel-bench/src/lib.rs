@@ -13,10 +13,10 @@ pub use pairing::{bench_pairings, embree_robust_for, Pairing};
 pub use path_rays::path_rays;
 
 use appel::accel::{Accel, AccelKind, AccelOptions, TraversalStats};
+use appel::description::CameraDesc;
 use appel::geometry::procedural::{scattered_triangles, teapot_in_stadium, SplitMix64};
 use appel::geometry::TriangleMesh;
 use appel::math::{offset_ray_origin, orthonormal_basis, Aabb, Ray, Vec3};
-use appel::scene::description::CameraDesc;
 use appel::scene::{Camera, Geometry};
 use rayon::prelude::*;
 use std::time::Instant;
