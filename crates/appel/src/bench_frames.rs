@@ -5,7 +5,7 @@
 
 use crate::error::{Error, Result};
 use crate::render::{render, RayCounts, RenderOptions};
-use crate::scene::{IntegratorKind, Scene};
+use crate::scene::Scene;
 use std::time::Instant;
 
 /// What `N` frames of one scene took.
@@ -136,11 +136,10 @@ pub fn bench_samples(
         return Err(Error::Invalid("--frames must be at least 1".into()));
     }
     let integrator = match scene.settings.integrator {
-        IntegratorKind::Path => "path",
-        IntegratorKind::Direct => "direct",
+        k if k.is_monte_carlo() => k.name(),
         other => {
             return Err(Error::Invalid(format!(
-                "samples per second are measured for the path and direct integrators, not {other:?}"
+                "samples per second are measured for the Monte Carlo integrators, not {other}"
             )))
         }
     };
@@ -189,6 +188,7 @@ pub fn bench_samples(
 mod tests {
     use super::*;
     use crate::scene::builtin::builtin_scene;
+    use crate::scene::IntegratorKind;
     use crate::scene::description_from_str;
     use crate::scene::parse::Syntax;
     use std::path::Path;

@@ -1,11 +1,16 @@
 //! The scene file's schema: plain serde data, exactly what the user wrote (with defaults filled in).
 //! `docs/scene-format.md` documents every key. Unknown keys are rejected.
 
+pub mod integrator;
+mod integrator_registry;
 mod light;
 mod material;
 mod render;
 mod shape;
 
+pub use integrator::{AovChannel, AovParams, AovType};
+pub(crate) use integrator_registry::for_each_integrator;
+pub use integrator_registry::{IntegratorName, IntegratorParams, IntegratorTable, NoParams};
 pub use light::{AreaEmitterDesc, LightDesc};
 pub use material::*;
 pub use render::*;
