@@ -1,6 +1,7 @@
 //! The scene file's schema: plain serde data, exactly what the user wrote (with defaults filled in).
 //! `docs/scene-format.md` documents every key. Unknown keys are rejected.
 
+mod emitter_registry;
 pub mod integrator;
 mod integrator_registry;
 mod light;
@@ -8,6 +9,8 @@ mod material;
 mod render;
 mod shape;
 
+pub(crate) use emitter_registry::for_each_emitter;
+pub use emitter_registry::{is_light, light_names, EMITTER_NAMES};
 pub use integrator::{AovChannel, AovParams, AovType};
 pub(crate) use integrator_registry::for_each_integrator;
 pub use integrator_registry::{IntegratorName, IntegratorParams, IntegratorTable, NoParams};
