@@ -188,9 +188,9 @@ pub fn bench_samples(
 mod tests {
     use super::*;
     use crate::scene::builtin::builtin_scene;
-    use crate::scene::IntegratorKind;
     use crate::scene::description_from_str;
     use crate::scene::parse::Syntax;
+    use crate::scene::IntegratorKind;
     use std::path::Path;
 
     fn whitted(w: u32, h: u32) -> Scene {

@@ -78,8 +78,24 @@ image = "my_image"
     assert_eq!(
         names,
         [
-            "my_image.R", "my_image.G", "my_image.B", "my_image.A", "dd.y.T", "nn.X", "nn.Y",
-            "nn.Z", "ng.X", "ng.Y", "ng.Z", "p.X", "p.Y", "p.Z", "s.I", "i.I", "t.U", "t.V",
+            "my_image.R",
+            "my_image.G",
+            "my_image.B",
+            "my_image.A",
+            "dd.y.T",
+            "nn.X",
+            "nn.Y",
+            "nn.Z",
+            "ng.X",
+            "ng.Y",
+            "ng.Z",
+            "p.X",
+            "p.Y",
+            "p.Z",
+            "s.I",
+            "i.I",
+            "t.U",
+            "t.V",
         ]
     );
     // The centre pixel looks straight at the sphere: 5 - 1 away.
@@ -111,9 +127,14 @@ image = "my_image"
     assert!(hits > 100 && hits < film.rgb.len(), "{hits}");
 
     // The image is the nested path tracer's, bit for bit.
-    let path = rendered(&sphere_scene("[render]\nintegrator = \"path\"\nspp = 3\nseed = 7\n"));
+    let path = rendered(&sphere_scene(
+        "[render]\nintegrator = \"path\"\nspp = 3\nseed = 7\n",
+    ));
     let bits = |f: &Film| -> Vec<[u32; 3]> {
-        f.rgb.iter().map(|c| c.to_array().map(f32::to_bits)).collect()
+        f.rgb
+            .iter()
+            .map(|c| c.to_array().map(f32::to_bits))
+            .collect()
     };
     assert_eq!(bits(&film), bits(&path));
     assert!(film.rgb.iter().any(|c| c.x > 0.0));
@@ -147,7 +168,10 @@ fn a_bad_aov_type_is_an_error_at_its_line() {
     std::fs::write(&path, &text).unwrap();
     let e = load_description(&path).unwrap_err().to_string();
     assert!(e.contains(&format!("scene.toml:{line}:")), "{e}");
-    assert!(e.contains("unknown AOV type `normals`") && e.contains("sh_normal"), "{e}");
+    assert!(
+        e.contains("unknown AOV type `normals`") && e.contains("sh_normal"),
+        "{e}"
+    );
 
     // An integrator without parameters of its own takes no table.
     let text = sphere_scene("[render]\nintegrator = \"path\"\n\n[render.path]\nmax_depth = 3\n");

@@ -13,8 +13,8 @@
 use super::integrator::{centre_aov, FilmSample, Integrator};
 use super::sampler::Sampler;
 use super::{
-    render_with, with_sampler, Channel, Film, PixelAov, RenderOptions, RenderStats,
-    TraceContext, Window,
+    render_with, with_sampler, Channel, Film, PixelAov, RenderOptions, RenderStats, TraceContext,
+    Window,
 };
 use crate::error::{Error, Result};
 use crate::geometry::SurfaceInteraction;
@@ -31,8 +31,8 @@ pub struct Aov {
     nested: Option<IntegratorKind>,
     /// The name under which the nested integrator's image is written again.
     image: Option<String>,
-    /// Whether the nested image counts rays that leave the scene as covered (an environment
-    /// emitter that the camera sees), for its alpha.
+    /// Whether emitters seen directly are hidden: then a ray that leaves the scene does not
+    /// cover its pixel in the nested image's alpha even where an environment emitter lies.
     hide_emitters: bool,
 }
 
@@ -83,6 +83,10 @@ impl Integrator for Aov {
             Some(kind) => render_with(kind, scene, options)?,
             None => with_sampler(scene, self, options)?,
         };
+        // A film asked for the image alone gets no channels either.
+        if options.skip_aovs {
+            return Ok((film, stats));
+        }
         let start = Instant::now();
         let (w, h) = (scene.camera.width, scene.camera.height);
         let window = options.window.unwrap_or(Window::full(w, h));

@@ -7,9 +7,9 @@
 use super::integrator::{camera_ray, centre_aov, FilmSample, Integrator, SurfaceHit};
 use super::sampler::Sampler;
 use super::{PixelAov, TraceContext};
+use crate::error::Result;
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Ray, Vec3};
-use crate::error::Result;
 use crate::scene::{RenderSettings, Scene, NO_EMITTER, NO_INSTANCE};
 use crate::shading::bsdf::BsdfFlags;
 use crate::shading::frame::ShadingFrame;

@@ -9,10 +9,10 @@ use super::integrator::{
 use super::optics::{fresnel_dielectric, reflect, refract};
 use super::sampler::Sampler;
 use super::{PixelAov, TraceContext};
+use crate::error::Result;
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin_by, surface_offset, Ray, Vec2, Vec3};
 use crate::scene::Material;
-use crate::error::Result;
 use crate::scene::{Light, RenderSettings, Scene, SceneHit};
 
 /// Shadow rays towards a point light stop this fraction short of it (pbrt-v4's `ShadowEpsilon`):

@@ -74,9 +74,16 @@ mod tests {
             .map(|s| s.trim().trim_matches('`').to_string())
             .filter(|s| !s.is_empty())
             .collect();
-        let mut listed: Vec<&str> = listed.iter().map(|s| s.lines().next().unwrap().trim_matches('`')).collect();
+        let mut listed: Vec<&str> = listed
+            .iter()
+            .map(|s| s.lines().next().unwrap().trim_matches('`'))
+            .collect();
         listed.sort();
-        let mut lights: Vec<&str> = EMITTER_NAMES.iter().copied().filter(|n| is_light(n)).collect();
+        let mut lights: Vec<&str> = EMITTER_NAMES
+            .iter()
+            .copied()
+            .filter(|n| is_light(n))
+            .collect();
         lights.sort();
         assert_eq!(listed, lights, "{e}");
     }

@@ -99,7 +99,12 @@ pub trait EmitterPlugin: Clone + std::fmt::Debug {
     /// Tells an infinite light the scene's bounding sphere, which its power needs. The default,
     /// nothing, is that of finite emitters.
     fn set_scene_bounds(&mut self, _center: Vec3, _radius: f32) {
-        const { assert!(!Self::INFINITE, "an infinite emitter defines set_scene_bounds") };
+        const {
+            assert!(
+                !Self::INFINITE,
+                "an infinite emitter defines set_scene_bounds"
+            )
+        };
     }
 }
 

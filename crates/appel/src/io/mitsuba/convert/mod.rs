@@ -15,8 +15,8 @@ use super::document::{Document, Object, Target};
 use super::transform::to_rows;
 use crate::error::Result;
 use crate::scene::description::{
-    AovParams, CameraDesc, CameraKind, Description, FilterDesc, FovAxis, IntegratorName, MaterialDesc,
-    RenderDesc, SamplerName,
+    AovParams, CameraDesc, CameraKind, Description, FilterDesc, FovAxis, IntegratorName,
+    MaterialDesc, RenderDesc, SamplerName,
 };
 use crate::scene::origins::{key_path, Origin, Origins};
 use glam::{DMat4, DVec3};
@@ -307,7 +307,9 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
 /// the element's unnamed children), and its image's channels after that name.
 fn aov_integrator_desc(i: &Object) -> Result<RenderDesc> {
     let Some(aovs) = i.string("aovs")? else {
-        return Err(i.error("the aov integrator needs <string name=\"aovs\" value=\"NAME:TYPE,...\"/>"));
+        return Err(
+            i.error("the aov integrator needs <string name=\"aovs\" value=\"NAME:TYPE,...\"/>")
+        );
     };
     let mut params = AovParams {
         aovs: aovs.to_string(),

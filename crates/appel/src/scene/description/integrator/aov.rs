@@ -72,10 +72,7 @@ impl AovType {
 
     /// Mitsuba's types that Appel does not compute, and why.
     const UNSUPPORTED: &'static [(&'static str, &'static str)] = &[
-        (
-            "albedo",
-            "Appel's BSDFs have no diffuse-reflectance query",
-        ),
+        ("albedo", "Appel's BSDFs have no diffuse-reflectance query"),
         (
             "duv_dx",
             "uv derivatives need ray differentials, which Appel does not trace",
@@ -136,9 +133,16 @@ impl AovParams {
     /// The entries of `aovs`, in order; the message says what is wrong with the first bad one.
     pub fn channels(&self) -> Result<Vec<AovChannel>, String> {
         let mut out: Vec<AovChannel> = Vec::new();
-        for item in self.aovs.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        for item in self
+            .aovs
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+        {
             let (name, ty) = match item.split_once(':') {
-                Some((n, t)) if !n.trim().is_empty() && !t.trim().is_empty() => (n.trim(), t.trim()),
+                Some((n, t)) if !n.trim().is_empty() && !t.trim().is_empty() => {
+                    (n.trim(), t.trim())
+                }
                 _ => {
                     return Err(format!(
                         "`{item}` is not a `name:type` pair (as in \"dd.y:depth,nn:sh_normal\")"
@@ -164,7 +168,6 @@ impl AovParams {
         }
         Ok(out)
     }
-
 }
 
 impl IntegratorTable for AovParams {
@@ -212,9 +215,7 @@ mod tests {
         let names: Vec<String> = c.iter().flat_map(|c| c.channel_names()).collect();
         assert_eq!(
             names,
-            [
-                "dd.y.T", "nn.X", "nn.Y", "nn.Z", "p.X", "p.Y", "p.Z", "t.U", "t.V", "i.I"
-            ]
+            ["dd.y.T", "nn.X", "nn.Y", "nn.Z", "p.X", "p.Y", "p.Z", "t.U", "t.V", "i.I"]
         );
         assert_eq!(c[1].ty, AovType::ShNormal);
         for t in AovType::ALL {
@@ -225,12 +226,21 @@ mod tests {
     #[test]
     fn bad_entries_say_what_is_wrong() {
         let e = params("d:depht").channels().unwrap_err();
-        assert!(e.contains("unknown AOV type `depht`") && e.contains("sh_normal"), "{e}");
+        assert!(
+            e.contains("unknown AOV type `depht`") && e.contains("sh_normal"),
+            "{e}"
+        );
         let e = params("a:albedo").channels().unwrap_err();
         assert!(e.contains("not supported"), "{e}");
-        assert!(params("depth").channels().unwrap_err().contains("name:type"));
+        assert!(params("depth")
+            .channels()
+            .unwrap_err()
+            .contains("name:type"));
         assert!(params(":depth").channels().is_err());
-        assert!(params("a:depth,a:uv").channels().unwrap_err().contains("two"));
+        assert!(params("a:depth,a:uv")
+            .channels()
+            .unwrap_err()
+            .contains("two"));
         let nested_aov = AovParams {
             integrator: Some(IntegratorName::Aov),
             ..params("d:depth")
