@@ -187,9 +187,9 @@ pub fn bench_samples(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::description::description_from_str;
+    use crate::description::parse::Syntax;
     use crate::scene::builtin::builtin_scene;
-    use crate::scene::description_from_str;
-    use crate::scene::parse::Syntax;
     use crate::scene::IntegratorKind;
     use std::path::Path;
 

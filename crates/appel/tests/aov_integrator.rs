@@ -2,9 +2,10 @@
 //! centre sees, named as Mitsuba names them, and the nested integrator's image is exactly the one
 //! that integrator renders alone.
 
+use appel::description::description_from_str;
+use appel::description::parse::Syntax;
 use appel::render::{render, Film, RenderOptions};
-use appel::scene::parse::Syntax;
-use appel::scene::{description_from_str, load_description, Scene};
+use appel::scene::Scene;
 use glam::Vec3;
 use std::path::Path;
 
@@ -160,13 +161,17 @@ fn a_bad_aov_type_is_an_error_at_its_line() {
     let line = text.lines().position(|l| l.starts_with("aovs")).unwrap() + 1;
     let path = dir.path().join("scene.toml");
     std::fs::write(&path, &text).unwrap();
-    let e = load_description(&path).unwrap_err().to_string();
+    let e = appel::format::load(&path, &Default::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains(&format!("scene.toml:{line}:")), "{e}");
     assert!(e.contains("`albedo` is not supported"), "{e}");
 
     let text = text.replace("a:albedo", "n:normals");
     std::fs::write(&path, &text).unwrap();
-    let e = load_description(&path).unwrap_err().to_string();
+    let e = appel::format::load(&path, &Default::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains(&format!("scene.toml:{line}:")), "{e}");
     assert!(
         e.contains("unknown AOV type `normals`") && e.contains("sh_normal"),
@@ -176,13 +181,17 @@ fn a_bad_aov_type_is_an_error_at_its_line() {
     // An integrator without parameters of its own takes no table.
     let text = sphere_scene("[render]\nintegrator = \"path\"\n\n[render.path]\nmax_depth = 3\n");
     std::fs::write(&path, &text).unwrap();
-    let e = load_description(&path).unwrap_err().to_string();
+    let e = appel::format::load(&path, &Default::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("scene.toml:"), "{e}");
     assert!(e.contains("no table of its own"), "{e}");
 
     // Unknown integrators list the registry's names.
     let text = sphere_scene("[render]\nintegrator = \"bdpt\"\n");
     std::fs::write(&path, &text).unwrap();
-    let e = load_description(&path).unwrap_err().to_string();
+    let e = appel::format::load(&path, &Default::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("raycast, whitted, path, direct, aov"), "{e}");
 }

@@ -16,10 +16,10 @@ use super::{
     render_with, with_sampler, Channel, Film, PixelAov, RenderOptions, RenderStats, TraceContext,
     Window,
 };
+use crate::description::{AovChannel, AovType};
 use crate::error::{Error, Result};
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Vec2, Vec3};
-use crate::scene::description::{AovChannel, AovType};
 use crate::scene::{IntegratorKind, RenderSettings, Scene, SceneHit};
 use rayon::prelude::*;
 use std::time::Instant;

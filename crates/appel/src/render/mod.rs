@@ -23,8 +23,8 @@ pub use whitted::{local_shading, Raycast, Whitted};
 pub use window::Window;
 
 use crate::accel::TraversalStats;
+use crate::description::SamplerName;
 use crate::error::Result;
-use crate::scene::description::SamplerName;
 use crate::scene::{IntegratorKind, Scene};
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
@@ -136,7 +136,7 @@ macro_rules! define_integrator_dispatch {
         }
     };
 }
-crate::scene::description::for_each_integrator!(define_integrator_dispatch);
+crate::description::for_each_integrator!(define_integrator_dispatch);
 
 /// The render loop monomorphized for the integrator and the scene's sampler.
 pub(crate) fn with_sampler<I: Integrator>(

@@ -195,4 +195,4 @@ macro_rules! define_emitters {
         }
     };
 }
-crate::scene::description::for_each_emitter!(define_emitters);
+crate::description::for_each_emitter!(define_emitters);

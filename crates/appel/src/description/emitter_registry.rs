@@ -57,7 +57,7 @@ pub fn light_names() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::description::LightDesc;
+    use crate::description::LightDesc;
 
     /// `[[light]] type` accepts exactly the registry's lights (serde lists its variants in the
     /// error for an unknown one).
