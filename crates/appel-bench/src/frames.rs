@@ -5,7 +5,7 @@
 
 use appel::error::{Error, Result};
 use appel::render::{render, RayCounts, RenderOptions};
-use appel::scene::{IntegratorKind, Scene};
+use appel::scene::Scene;
 use std::time::Instant;
 
 /// What `N` frames of one scene took.
@@ -136,11 +136,10 @@ pub fn bench_samples(
         return Err(Error::Invalid("--frames must be at least 1".into()));
     }
     let integrator = match scene.settings.integrator {
-        IntegratorKind::Path => "path",
-        IntegratorKind::Direct => "direct",
+        k if k.is_monte_carlo() => k.name(),
         other => {
             return Err(Error::Invalid(format!(
-                "samples per second are measured for the path and direct integrators, not {other:?}"
+                "samples per second are measured for the Monte Carlo integrators, not {other}"
             )))
         }
     };
@@ -191,6 +190,7 @@ mod tests {
     use appel::description::description_from_str;
     use appel::description::parse::Syntax;
     use appel::scene::builtin::builtin_scene;
+    use appel::scene::IntegratorKind;
     use std::path::Path;
 
     fn whitted(w: u32, h: u32) -> Scene {

@@ -21,7 +21,7 @@ pub use octree::OctreeOptions;
 use registry::define_structures;
 pub(crate) use registry::for_each_structure;
 pub use stats::{AccelStats, TraversalStats};
-pub use structure::{BadOption, NoOptions, Structure};
+pub use structure::{same_name, BadOption, NoOptions, Structure};
 
 for_each_structure!(define_structures);
 

@@ -205,6 +205,35 @@ impl EnvMap {
     }
 }
 
+impl super::EmitterPlugin for EnvMap {
+    const NAME: &'static str = "envmap";
+    const DELTA: bool = false;
+    const INFINITE: bool = true;
+
+    #[inline]
+    fn sample_li(&self, _p: glam::Vec3, u: glam::Vec2) -> Option<super::EmitterSample> {
+        EnvMap::sample_li(self, u)
+    }
+
+    #[inline]
+    fn pdf_li(&self, _p: glam::Vec3, wi: glam::Vec3, _light_point: glam::Vec3, _light_normal: glam::Vec3) -> f32 {
+        EnvMap::pdf_li(self, wi)
+    }
+
+    #[inline]
+    fn radiance_env(&self, d: glam::Vec3) -> glam::Vec3 {
+        self.radiance(d)
+    }
+
+    fn power(&self) -> glam::Vec3 {
+        EnvMap::power(self)
+    }
+
+    fn set_scene_bounds(&mut self, _center: glam::Vec3, radius: f32) {
+        self.scene_radius = radius;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::chi2_sphere::{assert_fits, Rng, Spec};
