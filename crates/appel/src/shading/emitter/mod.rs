@@ -120,6 +120,20 @@ impl Emitter {
         (rgb.x + rgb.y + rgb.z) / 3.0
     }
 
+    /// Where a light at a point sits (points, spots, projectors): a shadow ray toward it ends
+    /// there. `None` for lights with no single position.
+    pub fn position(&self) -> Option<Vec3> {
+        match self {
+            Emitter::Point(l) => Some(l.position),
+            Emitter::Spot(l) => Some(l.position()),
+            Emitter::Projector(l) => Some(l.position()),
+            Emitter::Directional(_)
+            | Emitter::Area(_)
+            | Emitter::Constant(_)
+            | Emitter::EnvMap(_) => None,
+        }
+    }
+
     pub fn is_delta(&self) -> bool {
         matches!(
             self,

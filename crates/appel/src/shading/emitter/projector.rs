@@ -55,6 +55,11 @@ impl Projector {
         ((0.0..=1.0).contains(&uv.x) && (0.0..=1.0).contains(&uv.y)).then_some(uv)
     }
 
+    /// Where the light sits.
+    pub fn position(&self) -> Vec3 {
+        self.position
+    }
+
     pub fn sample_li(&self, p: Vec3) -> Option<EmitterSample> {
         let local = self.from_world.transform_point3(p);
         let uv = self.uv(local)?;

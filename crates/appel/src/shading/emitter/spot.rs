@@ -54,6 +54,11 @@ impl SpotLight {
         Self::new(to_world, intensity, 20.0, 15.0, None)
     }
 
+    /// Where the light sits.
+    pub fn position(&self) -> Vec3 {
+        self.position
+    }
+
     pub fn to_world(&self) -> &Mat4 {
         &self.to_world
     }
