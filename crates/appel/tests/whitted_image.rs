@@ -138,10 +138,10 @@ fn raycast_casts_no_secondary_rays_and_shows_opaque_glass() {
     assert!(film.rgb.iter().all(|c| c.is_finite()));
 }
 
-fn scene_from_toml(text: &str) -> appel::scene::Description {
-    appel::scene::description_from_str(
+fn scene_from_toml(text: &str) -> appel::description::Description {
+    appel::description::description_from_str(
         text,
-        appel::scene::parse::Syntax::Toml,
+        appel::description::parse::Syntax::Toml,
         std::path::Path::new("test.toml"),
     )
     .unwrap()

@@ -3,10 +3,10 @@
 //! their files are read. Every integrator reads this one list: `path` and `direct` through
 //! [`Material::bsdf`], `whitted` and `raycast` through [`Material::whitted`].
 
-use super::description::{
+use super::textures::TextureCache;
+use crate::description::{
     Description, DistributionDesc, IorDesc, MaterialDesc, PhongDesc, TextureDesc,
 };
-use super::textures::TextureCache;
 use crate::error::{Error, Result};
 use crate::shading::bsdf::principled::specular_to_eta;
 use crate::shading::bsdf::{

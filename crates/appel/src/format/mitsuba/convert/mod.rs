@@ -13,12 +13,12 @@ mod tests;
 
 use super::document::{Document, Object, Target};
 use super::transform::to_rows;
-use crate::error::Result;
-use crate::scene::description::{
+use crate::description::origins::{key_path, Origin, Origins};
+use crate::description::{
     CameraDesc, CameraKind, Description, FilterDesc, FovAxis, IntegratorName, MaterialDesc,
     RenderDesc, SamplerName,
 };
-use crate::scene::origins::{key_path, Origin, Origins};
+use crate::error::Result;
 use glam::{DMat4, DVec3};
 use origin::origin_of;
 use std::collections::{BTreeMap, HashMap};
@@ -54,10 +54,10 @@ struct Converter<'d> {
     material_of: HashMap<*const Object, String>,
     /// Shapegroups converted so far: their meshes' names and their other shapes.
     groups: HashMap<*const Object, shape::Group>,
-    shapes: Vec<crate::scene::description::ShapeDesc>,
-    lights: Vec<crate::scene::description::LightDesc>,
-    meshes: BTreeMap<String, crate::scene::description::MeshDesc>,
-    instances: Vec<crate::scene::description::InstanceDesc>,
+    shapes: Vec<crate::description::ShapeDesc>,
+    lights: Vec<crate::description::LightDesc>,
+    meshes: BTreeMap<String, crate::description::MeshDesc>,
+    instances: Vec<crate::description::InstanceDesc>,
     origins: Origins,
 }
 

@@ -1,11 +1,11 @@
-//! Where each entry of the converted description was written (see `scene::origins`): the
+//! Where each entry of the converted description was written (see `description::origins`): the
 //! directive that made a shape, light, material, object or instance, with its parameters, and
 //! the scene-wide directives behind the camera and the render settings.
 
 use super::parser::Directive;
 use super::tokenizer::Loc;
+use crate::description::origins::{key_path, Origin, Origins};
 use crate::error::Location;
-use crate::scene::origins::{key_path, Origin, Origins};
 use std::collections::HashSet;
 
 /// pbrt parameters filling description keys of another name: `(key, parameter)`.
@@ -114,9 +114,9 @@ impl Recorder {
             _ => &[],
         };
         for path in scene_wide {
-            let segments: Vec<&dyn crate::scene::origins::AsSegment> = path
+            let segments: Vec<&dyn crate::description::origins::AsSegment> = path
                 .iter()
-                .map(|s| s as &dyn crate::scene::origins::AsSegment)
+                .map(|s| s as &dyn crate::description::origins::AsSegment)
                 .collect();
             let mut at = o();
             // The parameter behind a key of its own: `camera.width` is `xresolution`.

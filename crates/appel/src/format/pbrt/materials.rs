@@ -7,12 +7,12 @@ use super::params::{ParamSet, ParamType};
 use super::parser::Directive;
 use super::spectrum::{rgb_of, Use};
 use super::tokenizer::Loc;
-use crate::error::Result;
-use crate::scene::description::{
+use crate::description::{
     BlendDesc, ConductorDesc, DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc, MaterialDesc,
     PlasticDesc, RoughConductorDesc, RoughDielectricDesc, RoughPlasticDesc, TextureDesc,
     TwoSidedDesc,
 };
+use crate::error::Result;
 
 /// A pbrt material as the description holds it.
 #[derive(Clone, Debug, PartialEq)]
@@ -165,7 +165,7 @@ impl Converter {
             )? {
                 None => {
                     // pbrt's default metal is copper.
-                    let (eta, k) = crate::shading::spectra::conductor("Cu").expect("known");
+                    let (eta, k) = crate::description::spectra::conductor("Cu").expect("known");
                     let v = if metal_part == "eta" { eta } else { k };
                     Ok([v.x, v.y, v.z])
                 }

@@ -6,8 +6,8 @@ use super::convert::Converter;
 use super::params::{Param, ParamSet, ParamType};
 use super::parser::Directive;
 use super::spectrum::{rgb_of, Use};
+use crate::description::{TextureDesc, TextureFilter, TextureNode, TextureWrap};
 use crate::error::Result;
-use crate::scene::description::{TextureDesc, TextureFilter, TextureNode, TextureWrap};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Kind {

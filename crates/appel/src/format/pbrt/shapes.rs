@@ -14,11 +14,11 @@ use super::materials::Converted;
 use super::params::ParamType;
 use super::parser::Directive;
 use super::tokenizer::Loc;
-use crate::error::Result;
-use crate::scene::description::{
+use crate::description::{
     AreaEmitterDesc, BasicShapeDesc, InstanceDesc, MeshDesc, ShapeDesc, SphereDesc, TextureDesc,
     TransformDesc, TriangleMeshDesc,
 };
+use crate::error::Result;
 use glam::{DMat4, DVec3};
 use std::rc::Rc;
 
@@ -487,20 +487,16 @@ impl Converter {
         if !self.materials.contains_key(NAME) {
             self.materials.insert(
                 NAME.to_string(),
-                crate::scene::description::MaterialDesc::TwoSided(
-                    crate::scene::description::TwoSidedDesc {
-                        front: format!("{NAME}.bsdf"),
-                        back: None,
-                    },
-                ),
+                crate::description::MaterialDesc::TwoSided(crate::description::TwoSidedDesc {
+                    front: format!("{NAME}.bsdf"),
+                    back: None,
+                }),
             );
             self.materials.insert(
                 format!("{NAME}.bsdf"),
-                crate::scene::description::MaterialDesc::Diffuse(
-                    crate::scene::description::DiffuseDesc {
-                        reflectance: TextureDesc::Value(0.5),
-                    },
-                ),
+                crate::description::MaterialDesc::Diffuse(crate::description::DiffuseDesc {
+                    reflectance: TextureDesc::Value(0.5),
+                }),
             );
         }
         NAME.to_string()

@@ -17,10 +17,10 @@ use super::parser::{Directive, Parser};
 use super::shapes::{Object, Placed};
 use super::tokenizer::Loc;
 use super::PbrtScene;
-use crate::error::Result;
-use crate::scene::description::{
+use crate::description::{
     Description, InstanceDesc, LightDesc, MaterialDesc, MeshDesc, ShapeDesc, TextureDesc,
 };
+use crate::error::Result;
 use glam::{DMat4, DVec3};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};

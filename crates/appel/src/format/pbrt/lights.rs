@@ -7,8 +7,8 @@ use super::convert::{AreaLight, Converter};
 use super::params::{ParamSet, ParamType};
 use super::parser::Directive;
 use super::spectrum::{rgb_of, Use};
+use crate::description::LightDesc;
 use crate::error::Result;
-use crate::scene::description::LightDesc;
 use glam::DVec3;
 use std::f64::consts::PI;
 

@@ -5,7 +5,7 @@
 
 use super::params::{Param, ParamType};
 use crate::error::Result;
-use crate::io::mitsuba::spectrum::{pairs_to_rgb, SpectrumUse};
+use crate::format::mitsuba::spectrum::{pairs_to_rgb, SpectrumUse};
 use std::path::Path;
 
 /// What a spectrum describes, which decides how it becomes a colour.
@@ -146,7 +146,7 @@ fn named_or_file(p: &Param, name: &str, base_dir: &Path) -> Result<Spectrum> {
         let (metal, part) = rest
             .rsplit_once('-')
             .ok_or_else(|| p.error(format!("unknown named spectrum \"{name}\"")))?;
-        let (eta, k) = crate::shading::spectra::conductor(metal).ok_or_else(|| {
+        let (eta, k) = crate::description::spectra::conductor(metal).ok_or_else(|| {
             p.error(format!(
                 "named spectrum \"{name}\": Appel has no data for the metal \"{metal}\""
             ))
@@ -159,7 +159,7 @@ fn named_or_file(p: &Param, name: &str, base_dir: &Path) -> Result<Spectrum> {
         return Ok(Spectrum::Rgb([v.x as f64, v.y as f64, v.z as f64]));
     }
     if name == "glass-BK7" {
-        let eta = crate::shading::spectra::ior("bk7").expect("a known IOR") as f64;
+        let eta = crate::description::spectra::ior("bk7").expect("a known IOR") as f64;
         return Ok(Spectrum::Rgb([eta; 3]));
     }
     if !name.ends_with(".spd") {

@@ -1,7 +1,7 @@
 //! Mitsuba 3 scene files (`.xml`): the XML layer (`xml`: elements with their lines; `expand`:
 //! parameters, includes, paths, references; `params`, `transform`, `spectrum`: the values of
 //! properties as Mitsuba reads them) gives a [`Document`] of objects and properties, which
-//! `convert` maps onto Appel's [`Description`](crate::scene::Description).
+//! `convert` maps onto Appel's [`Description`](crate::description::Description).
 
 mod convert;
 mod document;
@@ -25,7 +25,7 @@ pub use xml::{Element, Loc};
 pub fn load_xml(
     path: &std::path::Path,
     options: &XmlOptions,
-) -> crate::error::Result<crate::scene::Description> {
+) -> crate::error::Result<crate::description::Description> {
     convert(&load_document(path, options)?)
 }
 
@@ -34,7 +34,10 @@ pub fn load_xml(
 pub fn load_xml_with_origins(
     path: &std::path::Path,
     options: &XmlOptions,
-) -> crate::error::Result<(crate::scene::Description, crate::scene::origins::Origins)> {
+) -> crate::error::Result<(
+    crate::description::Description,
+    crate::description::origins::Origins,
+)> {
     convert_with_origins(&load_document(path, options)?)
 }
 
@@ -44,4 +47,35 @@ pub struct XmlOptions {
     /// `-D name=value` parameters: they replace `$name` in attribute values and override the
     /// file's `<default name="name" value="..."/>`.
     pub params: Vec<(String, String)>,
+}
+
+/// Mitsuba 3 XML scenes (`.xml`), with `-D name=value` parameters.
+pub struct MitsubaFormat;
+
+impl super::SceneFormat for MitsubaFormat {
+    fn name(&self) -> &'static str {
+        "mitsuba"
+    }
+
+    fn extensions(&self) -> &'static [&'static str] {
+        &[".xml"]
+    }
+
+    fn takes_params(&self) -> bool {
+        true
+    }
+
+    /// File names come out absolute; problems only validation sees are reported at the line of
+    /// the element (or parameter) that made the description's entry, with the entry's key.
+    fn load(
+        &self,
+        path: &std::path::Path,
+        options: &super::FormatOptions,
+    ) -> crate::error::Result<super::LoadedDescription> {
+        let xml = XmlOptions {
+            params: options.params.clone(),
+        };
+        let (description, origins) = load_xml_with_origins(path, &xml)?;
+        super::validate_converted(description, origins, Vec::new(), path)
+    }
 }

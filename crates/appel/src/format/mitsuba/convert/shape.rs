@@ -6,12 +6,12 @@
 use super::super::document::{Object, Target};
 use super::origin::origin_of;
 use super::{columns, rows_f32, Converter, DEFAULT_MATERIAL};
-use crate::error::Result;
-use crate::scene::description::{
+use crate::description::origins::key_path;
+use crate::description::{
     BasicShapeDesc, CylinderDesc, InstanceDesc, MeshDesc, MeshShapeDesc, SdfGridDesc,
     SdfNormalsDesc, ShapeDesc, SphereDesc, TransformDesc,
 };
-use crate::scene::origins::key_path;
+use crate::error::Result;
 use glam::{DMat4, DVec3};
 use std::rc::Rc;
 

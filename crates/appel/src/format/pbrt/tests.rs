@@ -2,7 +2,7 @@
 //! their errors.
 
 use super::{load_pbrt, PbrtScene};
-use crate::scene::description::*;
+use crate::description::*;
 use std::path::PathBuf;
 
 /// Writes `text` as `a.pbrt` in a fresh folder and reads it.
@@ -272,7 +272,7 @@ fn object_meshes_become_appel_instances() {
             ],
         ]
     );
-    crate::scene::validate::validate(d).unwrap();
+    crate::description::validate::validate(d).unwrap();
 }
 
 /// Problems that only the validation of the converted description finds are reported at the
@@ -299,7 +299,7 @@ fn validation_errors_point_at_the_directive() {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("a.pbrt");
         std::fs::write(&path, format!("{CAMERA}{options}WorldBegin\nShape \"sphere\"\n")).unwrap();
-        let e = crate::scene::load_description(&path)
+        let e = crate::format::load(&path, &Default::default())
             .map(|_| ())
             .unwrap_err()
             .to_string();

@@ -1,6 +1,6 @@
 //! Reading a scene file into a [`Description`], with errors that name the file, line and column.
 
-use super::description::Description;
+use super::Description;
 use crate::error::{Error, Location, Result};
 use std::ops::Range;
 use std::path::Path;

@@ -6,14 +6,14 @@ use super::super::spectrum::{pairs_to_rgb, SpectrumUse, UNIFORM_EMITTER_RGB};
 use super::super::transform::to_rows;
 use super::origin::origin_of;
 use super::Converter;
-use crate::error::Result;
-use crate::scene::description::{
+use crate::description::origins::key_path;
+use crate::description::{
     BlendDesc, BumpMapDesc, ConductorDesc, DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc,
     MaskDesc, MaterialDesc, NormalMapDesc, PlasticDesc, PrincipledDesc, PrincipledThinDesc,
     RoughConductorDesc, RoughDielectricDesc, RoughPlasticDesc, TextureDesc, TextureFilter,
     TextureNode, TextureWrap, TwoSidedDesc,
 };
-use crate::scene::origins::key_path;
+use crate::error::Result;
 use std::rc::Rc;
 
 const BSDFS: &str = "diffuse, conductor, roughconductor, dielectric, thindielectric, \

@@ -4,7 +4,7 @@
 //! render) sees only plain descriptions, so a frame rendered alone and the same frame reached
 //! through a sequence start from the very same input.
 
-use super::description::{Description, KeyframeDesc, ShapeDesc, TransformDesc};
+use super::{Description, KeyframeDesc, ShapeDesc, TransformDesc};
 use glam::{Mat4, Quat, Vec3};
 
 /// Frames in the description's sequence (1 without `[animation]`).
@@ -164,7 +164,7 @@ fn matrix_desc(m: Mat4) -> TransformDesc {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::description::RotateDesc;
+    use crate::description::RotateDesc;
 
     fn key(time: f32, x: f32, degrees: f32, scale: f32) -> KeyframeDesc {
         KeyframeDesc {
@@ -175,7 +175,7 @@ mod tests {
                     axis: [0.0, 0.0, 1.0],
                     degrees,
                 }),
-                scale: Some(crate::scene::description::ScaleDesc::Uniform(scale)),
+                scale: Some(crate::description::ScaleDesc::Uniform(scale)),
                 matrix: None,
             },
         }

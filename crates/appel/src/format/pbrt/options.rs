@@ -3,10 +3,10 @@
 
 use super::parser::Directive;
 use super::tokenizer::Loc;
-use crate::error::Result;
-use crate::scene::description::{
+use crate::description::{
     CameraDesc, CameraKind, FilterDesc, FovAxis, IntegratorName, RenderDesc, SamplerName,
 };
+use crate::error::Result;
 use glam::{DMat4, DVec3};
 
 #[derive(Default)]

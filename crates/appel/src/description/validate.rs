@@ -1,13 +1,13 @@
 //! Checks that a parsed [`Description`] makes sense, before anything is built from it. Each problem is
 //! reported with the path of the offending value, which the loader turns into a line and column.
 
-use super::description::{
+use super::parse::PathSeg;
+use super::spectra;
+use super::{
     Description, InstanceDesc, IorDesc, KeyframeDesc, LightDesc, MaterialDesc, ShapeDesc,
     TextureDesc, TextureNode, TransformDesc, Vec3f,
 };
-use super::parse::PathSeg;
 use crate::accel::AccelKind;
-use crate::shading::spectra;
 
 /// The largest image Appel agrees to render: the film holds about 40 bytes per pixel with AOVs, so
 /// this is 4 GB.
@@ -567,11 +567,10 @@ fn render(c: &mut Checker, d: &Description) -> Check {
         );
     }
     match r.filter {
-        super::description::FilterDesc::Box { radius }
-        | super::description::FilterDesc::Tent { radius } => {
+        super::FilterDesc::Box { radius } | super::FilterDesc::Tent { radius } => {
             c.at(key("filter"), |c| c.positive("radius", radius))?
         }
-        super::description::FilterDesc::Gaussian { stddev } => {
+        super::FilterDesc::Gaussian { stddev } => {
             c.at(key("filter"), |c| c.positive("stddev", stddev))?
         }
     }
@@ -870,7 +869,7 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
     }
     let exists = |f: &str, what: &str, path: Vec<PathSeg>| {
         let p = base_dir.join(f);
-        if p.is_file() || (what == "mesh file" && crate::io::mesh_source_exists(&p)) {
+        if p.is_file() || (what == "mesh file" && super::archive_path::mesh_source_exists(&p)) {
             Ok(())
         } else {
             Err(Invalid {
@@ -902,7 +901,7 @@ pub fn files(d: &Description, base_dir: &std::path::Path) -> Result<(), Invalid>
         }
         if let ShapeDesc::Mesh(m) = s {
             let p = base_dir.join(&m.file);
-            if !crate::io::mesh_source_exists(&p) {
+            if !super::archive_path::mesh_source_exists(&p) {
                 return Err(Invalid {
                     path: vec![key("shape"), PathSeg::Index(i), key("file")],
                     message: format!("the mesh file `{}` does not exist", p.display()),

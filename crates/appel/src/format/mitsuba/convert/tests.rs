@@ -5,8 +5,8 @@
 #![allow(clippy::excessive_precision)]
 
 use super::super::{document_from_str, load_xml, XmlOptions};
-use crate::scene::description::*;
-use crate::scene::validate;
+use crate::description::validate;
+use crate::description::*;
 use std::path::{Path, PathBuf};
 
 fn shared(rel: &str) -> Option<PathBuf> {
@@ -517,7 +517,7 @@ fn load_description_reads_xml_by_extension() {
     let Some(path) = shared(&format!("{SCENES}/instancing/test_instancing_path.xml")) else {
         return;
     };
-    let loaded = crate::scene::load_description(&path).unwrap();
+    let loaded = crate::format::load(&path, &Default::default()).unwrap();
     assert_eq!(loaded.description.instances.len(), 3);
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.xml");
@@ -526,7 +526,7 @@ fn load_description_reads_xml_by_extension() {
         "<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n</scene>",
     )
     .unwrap();
-    let e = crate::scene::load_description(&bad)
+    let e = crate::format::load(&bad, &Default::default())
         .unwrap_err()
         .to_string();
     assert!(e.starts_with(&format!("{}:3:", bad.display())), "{e}");
@@ -538,7 +538,7 @@ fn load_err(text: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("scene.xml");
     std::fs::write(&path, text).unwrap();
-    let e = crate::scene::load_xml_description(&path, &XmlOptions::default())
+    let e = crate::format::load(&path, &Default::default())
         .map(|_| ())
         .unwrap_err()
         .to_string();
@@ -589,9 +589,9 @@ fn validation_errors_point_at_the_xml_line() {
 #[test]
 fn a_non_positive_index_of_refraction_is_an_error_at_its_line() {
     let toml = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n\n[materials.glass]\ntype = \"dielectric\"\nint_ior = -0.0\n";
-    let e = crate::scene::description_from_str(
+    let e = crate::description::description_from_str(
         toml,
-        crate::scene::parse::Syntax::Toml,
+        crate::description::parse::Syntax::Toml,
         Path::new("scene.toml"),
     )
     .unwrap_err()

@@ -1,8 +1,8 @@
 //! Where each entry of the converted description was written: the element that made it and its
-//! parameters, under the description's keys (see `scene::origins`).
+//! parameters, under the description's keys (see `description::origins`).
 
 use super::super::document::Object;
-use crate::scene::origins::Origin;
+use crate::description::origins::Origin;
 
 /// Description keys filled from a Mitsuba parameter of another name: `(key, parameter)`.
 const RENAMED: &[(&str, &str)] = &[

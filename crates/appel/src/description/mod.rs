@@ -1,11 +1,25 @@
-//! The scene file's schema: plain serde data, exactly what the user wrote (with defaults filled in).
-//! `docs/scene-format.md` documents every key. Unknown keys are rejected.
+//! The scene description: the scene file's schema, plain serde data, exactly what the user wrote
+//! (with defaults filled in; `docs/scene-format.md` documents every key, unknown keys are
+//! rejected), its parsing with spans, its validation, where converted entries came from, and the
+//! values that mesh readers and shading share (loaded meshes, file materials, texture lookup).
+//! This layer names nothing above it: the formats, `io`'s readers, shading and the scene build on
+//! it.
 
+pub mod animation;
+pub mod archive_path;
+mod from_text;
 mod light;
+pub mod loaded_mesh;
 mod material;
+pub mod origins;
+pub mod parse;
 mod render;
 mod shape;
+pub mod spectra;
+pub mod texture_lookup;
+pub mod validate;
 
+pub use from_text::{description_from_str, located, path_string};
 pub use light::{AreaEmitterDesc, LightDesc};
 pub use material::*;
 pub use render::*;
@@ -35,7 +49,7 @@ pub struct Description {
     pub meshes: BTreeMap<String, MeshDesc>,
     #[serde(default, rename = "instance", skip_serializing_if = "Vec::is_empty")]
     pub instances: Vec<InstanceDesc>,
-    /// `[animation]`: the scene is a sequence of frames (see `scene::animation`).
+    /// `[animation]`: the scene is a sequence of frames (see `animation`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub animation: Option<AnimationDesc>,
 }

@@ -1,7 +1,7 @@
 //! pbrt-v4 scene files (`.pbrt`): `tokenizer` and `params` read the text and its typed parameter
 //! lists, `parser` the directives (following `Include` and `Import`), and `convert` walks them
 //! with pbrt's graphics state, mapping the supported subset onto Appel's
-//! [`Description`](crate::scene::Description): `options` the camera, film, sampler, filter and
+//! [`Description`](crate::description::Description): `options` the camera, film, sampler, filter and
 //! integrator, `shapes`, `materials` (with `textures` and `spectrum`) and `lights` the world.
 //! docs/pbrt.md lists what is supported and how each piece maps.
 
@@ -20,8 +20,8 @@ mod tokenizer;
 #[cfg(test)]
 mod tests;
 
+use crate::description::Description;
 use crate::error::Result;
-use crate::scene::Description;
 use std::path::Path;
 
 /// A pbrt scene as Appel's description, with pbrt's warnings (parameters nobody used).
@@ -31,7 +31,7 @@ pub struct PbrtScene {
     pub warnings: Vec<String>,
     /// Where each entry of the description was written, to place the problems its validation
     /// finds.
-    pub origins: crate::scene::origins::Origins,
+    pub origins: crate::description::origins::Origins,
 }
 
 /// Reads a pbrt-v4 scene file (or `.pbrt.gz`); file names in the description are absolute.
@@ -54,4 +54,32 @@ pub fn is_pbrt(path: &Path) -> bool {
         .unwrap_or("")
         .to_ascii_lowercase();
     name.ends_with(".pbrt") || name.ends_with(".pbrt.gz")
+}
+
+/// pbrt-v4 scenes (`.pbrt`, `.pbrt.gz`; see docs/pbrt.md).
+pub struct PbrtFormat;
+
+impl super::SceneFormat for PbrtFormat {
+    fn name(&self) -> &'static str {
+        "pbrt"
+    }
+
+    fn extensions(&self) -> &'static [&'static str] {
+        &[".pbrt", ".pbrt.gz"]
+    }
+
+    fn recognises(&self, path: &Path) -> bool {
+        is_pbrt(path)
+    }
+
+    /// File names come out absolute; the warnings list the parameters the scene gives and nothing
+    /// read, as pbrt reports them.
+    fn load(
+        &self,
+        path: &Path,
+        _options: &super::FormatOptions,
+    ) -> Result<super::LoadedDescription> {
+        let scene = load_pbrt(path)?;
+        super::validate_converted(scene.description, scene.origins, scene.warnings, path)
+    }
 }

@@ -7,9 +7,9 @@ use super::super::spectrum::SpectrumUse;
 use super::bsdf::{constant_color, texture};
 use super::origin::origin_of;
 use super::{columns, f32s, fov_axis, rows_f32, Converter};
+use crate::description::origins::key_path;
+use crate::description::{AreaEmitterDesc, LightDesc, TextureDesc, TransformDesc};
 use crate::error::Result;
-use crate::scene::description::{AreaEmitterDesc, LightDesc, TextureDesc, TransformDesc};
-use crate::scene::origins::key_path;
 use glam::DVec3;
 
 const EMITTERS: &str = "point, spot, projector, directional, constant, envmap (and area on shapes)";
