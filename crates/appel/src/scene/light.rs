@@ -39,9 +39,10 @@ impl Light {
                 radiance: Vec3::from(*color) * *intensity,
             }),
             // A projector's light varies across its image: no Whitted counterpart.
-            LightDesc::Constant { .. } | LightDesc::Envmap { .. } | LightDesc::Projector { .. } => {
-                None
-            }
+            LightDesc::Constant { .. }
+            | LightDesc::Envmap { .. }
+            | LightDesc::Sunsky { .. }
+            | LightDesc::Projector { .. } => None,
         }
     }
 }

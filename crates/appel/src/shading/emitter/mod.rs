@@ -12,6 +12,7 @@ mod point;
 mod projector;
 pub mod shape_sampler;
 mod spot;
+mod sunsky;
 pub mod warp;
 
 #[cfg(test)]
@@ -26,6 +27,7 @@ pub use point::PointLight;
 pub use projector::Projector;
 pub use shape_sampler::{ShapeSampler, TriangleSet};
 pub use spot::SpotLight;
+pub use sunsky::{SunPlacement, SunSky, SunSkyParams, SunTime, SUN_APERTURE};
 
 use glam::{Vec2, Vec3};
 
@@ -53,6 +55,7 @@ pub enum Emitter {
     Area(AreaEmitter),
     Constant(ConstantEnvironment),
     EnvMap(EnvMap),
+    SunSky(SunSky),
 }
 
 impl Emitter {
@@ -68,6 +71,7 @@ impl Emitter {
             Emitter::Area(l) => l.sample_li(p, u),
             Emitter::Constant(l) => l.sample_li(u),
             Emitter::EnvMap(l) => l.sample_li(u),
+            Emitter::SunSky(l) => l.sample_li(u),
         }
     }
 
@@ -83,6 +87,7 @@ impl Emitter {
             Emitter::Area(l) => l.pdf_li(p, wi, light_point, light_normal),
             Emitter::Constant(l) => l.pdf_li(),
             Emitter::EnvMap(l) => l.pdf_li(wi),
+            Emitter::SunSky(l) => l.pdf_li(wi),
         }
     }
 
@@ -101,6 +106,7 @@ impl Emitter {
         match self {
             Emitter::Constant(l) => l.radiance,
             Emitter::EnvMap(l) => l.radiance(d),
+            Emitter::SunSky(l) => l.radiance(d),
             _ => Vec3::ZERO,
         }
     }
@@ -116,6 +122,7 @@ impl Emitter {
             Emitter::Area(l) => l.power(),
             Emitter::Constant(l) => l.power(),
             Emitter::EnvMap(l) => l.power(),
+            Emitter::SunSky(l) => l.power(),
         };
         (rgb.x + rgb.y + rgb.z) / 3.0
     }
@@ -130,7 +137,10 @@ impl Emitter {
     pub fn is_infinite(&self) -> bool {
         matches!(
             self,
-            Emitter::Directional(_) | Emitter::Constant(_) | Emitter::EnvMap(_)
+            Emitter::Directional(_)
+                | Emitter::Constant(_)
+                | Emitter::EnvMap(_)
+                | Emitter::SunSky(_)
         )
     }
 
@@ -140,6 +150,7 @@ impl Emitter {
             Emitter::Directional(l) => l.scene_radius = radius,
             Emitter::Constant(l) => l.scene_radius = radius,
             Emitter::EnvMap(l) => l.scene_radius = radius,
+            Emitter::SunSky(l) => l.scene_radius = radius,
             _ => {}
         }
     }
