@@ -2,7 +2,8 @@
 //! available, checked before any large file is read.
 
 use anyhow::{bail, Result};
-use appel::scene::{estimate_memory, Description};
+use appel::description::Description;
+use appel::scene::estimate_memory;
 use std::path::Path;
 
 /// `MemAvailable` from `/proc/meminfo`, in bytes: what can be allocated without swapping. `None`
@@ -37,5 +38,5 @@ pub fn check_memory(d: &Description, base_dir: &Path) -> Result<()> {
 
 /// Peak resident memory of this process so far (`VmHWM`), in bytes, where the kernel reports it.
 pub fn peak_rss_bytes() -> Option<u64> {
-    appel::bench::rss::peak_bytes()
+    appel_bench::rss::peak_bytes()
 }

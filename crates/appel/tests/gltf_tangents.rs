@@ -7,7 +7,7 @@
 //! normal tilts to (cosine 0.97) and dim otherwise (0.35 from the side across, 0 from behind).
 
 use appel::render::{render, RenderOptions};
-use appel::scene::{load_description, Scene};
+use appel::scene::Scene;
 use glam::Vec3;
 use std::path::Path;
 
@@ -133,7 +133,7 @@ fn brightness(
     );
     let path = dir.path().join("scene.toml");
     std::fs::write(&path, scene).unwrap();
-    let loaded = load_description(&path).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = appel::format::load(&path, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     let scene = Scene::new(&loaded.description, &loaded.base_dir).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         scene.geometry.instances.len(),
@@ -294,15 +294,9 @@ fn malformed_tangent_accessors_are_errors_naming_the_file() {
 /// (vertices on a uv seam or a degenerate triangle may differ, as MikkTSpace welds and splits
 /// them by its own rules).
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn flight_helmet_s_tangents_load() {
-    let path = std::path::PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/gltf-models/FlightHelmet/glTF/FlightHelmet.gltf"
-    ));
-    if !path.exists() {
-        eprintln!("skipped: {} not found", path.display());
-        return;
-    }
+    let path = appel_testdata::path("gltf-models/FlightHelmet/glTF/FlightHelmet.gltf");
     let m = appel::io::load_mesh(&path).unwrap_or_else(|e| panic!("{e}"));
     assert!(!m.parts.is_empty());
     let (mut mirrored, mut total) = (0, 0);

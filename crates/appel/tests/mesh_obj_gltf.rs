@@ -1,27 +1,14 @@
 //! OBJ and glTF readers on small inline files and on the shared models.
 
+use appel::description::loaded_mesh::LoadedMesh;
 use appel::io::gltf::parse_gltf_with;
+use appel::io::load_mesh;
 use appel::io::obj::{parse_obj, triangulate, MtlSource, NoMtl};
-use appel::io::{load_mesh, LoadedMesh};
 use appel::math::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
 
 fn obj(text: &str) -> appel::Result<LoadedMesh> {
     parse_obj(text.as_bytes(), Path::new("t.obj"), &NoMtl)
-}
-
-fn shared(rel: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/"
-    ))
-    .join(rel);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!("skipped: {} not found", p.display());
-        None
-    }
 }
 
 fn area(a: Vec2, b: Vec2, c: Vec2) -> f32 {
@@ -162,6 +149,7 @@ fn degenerate_triangles_load() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn shared_obj_models_load() {
     for (rel, min_tris) in [
         ("common-3d-test-models/stanford-bunny.obj.gz", 60_000),
@@ -169,7 +157,7 @@ fn shared_obj_models_load() {
         ("common-3d-test-models/beetle.obj", 1000),
         ("odedstein-meshes/spot/spot_low_resolution.obj", 100),
     ] {
-        let Some(p) = shared(rel) else { continue };
+        let p = appel_testdata::path(rel);
         let m = load_mesh(&p).unwrap_or_else(|e| panic!("{e}"));
         assert!(
             m.triangle_count() >= min_tris,
@@ -252,10 +240,9 @@ fn gltf_missing_or_short_buffer_is_named() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn shared_sponza_gltf_without_its_bin_names_the_missing_file() {
-    let Some(p) = shared("gltf-models/Sponza/glTF/Sponza.gltf") else {
-        return;
-    };
+    let p = appel_testdata::path("gltf-models/Sponza/glTF/Sponza.gltf");
     let e = load_mesh(&p).unwrap_err().to_string();
     assert!(
         e.contains("Sponza.gltf") && e.contains("Sponza.bin") && e.contains("does not exist"),
@@ -264,6 +251,7 @@ fn shared_sponza_gltf_without_its_bin_names_the_missing_file() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn shared_gltf_models_load() {
     for (rel, min_tris) in [
         (
@@ -273,7 +261,7 @@ fn shared_gltf_models_load() {
         ("gltf-models/FlightHelmet/glTF/FlightHelmet.gltf", 10_000),
         ("gltf-models/Suzanne/glTF/Suzanne.gltf", 900),
     ] {
-        let Some(p) = shared(rel) else { continue };
+        let p = appel_testdata::path(rel);
         let m = load_mesh(&p).unwrap_or_else(|e| panic!("{e}"));
         assert!(
             m.triangle_count() >= min_tris,
@@ -344,9 +332,9 @@ fn gltf_nodes_sharing_a_mesh_become_placements_of_one_copy() {
     let scene_text = "[camera]\neye = [0.5, 0.3, 20.0]\nlook_at = [0.5, 0.3, 0.0]\n\
         [[shape]]\ntype = \"sphere\"\ncenter = [0.0, 50.0, 0.0]\nradius = 1.0\n\
         [[shape]]\ntype = \"mesh\"\nfile = \"t.gltf\"\n";
-    let d = appel::scene::description_from_str(
+    let d = appel::description::description_from_str(
         scene_text,
-        appel::scene::parse::Syntax::Toml,
+        appel::description::parse::Syntax::Toml,
         Path::new("s.toml"),
     )
     .unwrap();

@@ -8,7 +8,7 @@
 //! face-normals flag is not read: the shape's `face_normals` parameter alone asks for the
 //! triangles' own normals (Mitsuba 0.6 honoured the flag; Mitsuba 3 does not).
 
-use super::mesh_file::{first_non_finite, LoadedMesh, MeshPart};
+use crate::description::loaded_mesh::{first_non_finite, LoadedMesh, MeshPart};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};
@@ -272,14 +272,10 @@ mod tests {
     }
 
     #[test]
+    #[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
     fn the_shared_test_mesh_reads_as_its_obj_twin() {
-        let dir =
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/mitsuba-data/tests");
-        let Ok(bytes) = std::fs::read(dir.join("serialized/rectangle_normals_uv.serialized"))
-        else {
-            eprintln!("skipping: the shared Mitsuba test meshes are not there");
-            return;
-        };
+        let dir = appel_testdata::path("mitsuba-data/tests");
+        let bytes = std::fs::read(dir.join("serialized/rectangle_normals_uv.serialized")).unwrap();
         let m = parse_serialized(&bytes, Path::new("rectangle_normals_uv.serialized")).unwrap();
         let mesh = &m.parts[0].mesh;
         assert!(mesh.normals.is_some() && mesh.uvs.is_some());

@@ -1,4 +1,4 @@
-use super::description::{IorDesc, MaterialDesc, TextureDesc, TextureNode, WhittedDesc};
+use crate::description::{IorDesc, MaterialDesc, TextureDesc, TextureNode, WhittedDesc};
 use crate::math::{Vec2, Vec3};
 use std::collections::BTreeMap;
 
@@ -172,8 +172,9 @@ fn whitted_equivalent(
 }
 
 /// `x.floor() as i64`, without `floor`: x86_64 without SSE4.1 has no rounding instruction, so
-/// `floor` is a library call (2% of Whitted's frame). The conversion truncates towards zero (and
-/// saturates, NaN giving 0, as `floor() as i64` does); one step down fixes negative non-integers.
+/// `floor` is a library call, too slow for a per-hit texture lookup. The conversion truncates
+/// towards zero (and saturates, NaN giving 0, as `floor() as i64` does); one step down fixes
+/// negative non-integers.
 #[inline]
 fn floor_i64(x: f32) -> i64 {
     let i = x as i64;
@@ -192,7 +193,7 @@ mod tests {
     fn checker_alternates_between_neighbouring_squares() {
         let d = WhittedDesc {
             color: [1.0, 0.0, 0.0],
-            checker: Some(super::super::description::CheckerDesc {
+            checker: Some(crate::description::CheckerDesc {
                 color: [1.0, 1.0, 0.0],
                 size: 2.0,
             }),

@@ -69,8 +69,8 @@ impl Scene {
 
     /// Whether the structure is a single leaf holding every primitive (a scene of a few spheres and
     /// rectangles, such as Whitted's): its queries are then asked of `Geometry::intersect_all`
-    /// directly, past the calls through `Accel`, `Bvh` and the wide tree (about 60 instructions a
-    /// ray, a sixth of such a query), with the same hits and counts.
+    /// directly, past the calls through `Accel`, `Bvh` and the wide tree (a real share of such a
+    /// cheap query), with the same hits and counts.
     #[inline(always)]
     fn one_leaf(&self) -> bool {
         self.accel.single_leaf() == Some(self.geometry.count())
@@ -95,10 +95,10 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::description::description_from_str;
+    use crate::description::parse::Syntax;
     use crate::math::Vec3;
     use crate::scene::builtin::builtin_scene;
-    use crate::scene::description_from_str;
-    use crate::scene::parse::Syntax;
     use std::path::Path;
 
     /// The queries of a scene of one leaf (Whitted's spheres and rectangle), asked of

@@ -2,9 +2,9 @@
 //! in the same order: described materials as written, Whitted's (the default, mesh files' MTL and
 //! glTF materials, `type = "whitted"`) by their physically based equivalent.
 
-use super::description::{Description, DistributionDesc, IorDesc, MaterialDesc, TextureDesc};
 use super::textures::TextureCache;
 use super::Material as WhittedMaterial;
+use crate::description::{Description, DistributionDesc, IorDesc, MaterialDesc, TextureDesc};
 use crate::error::{Error, Result};
 use crate::shading::bsdf::principled::specular_to_eta;
 use crate::shading::bsdf::{MicrofacetKind, PlasticParams, RoughPlasticParams};

@@ -787,7 +787,7 @@ impl SunSky {
             Self::grid_direction(cos_theta, 2.0 * std::f32::consts::PI * x.x)
         };
         let pdf = self.pdf_local(local);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         Some(EmitterSample {
@@ -809,7 +809,35 @@ impl SunSky {
     }
 }
 
+impl super::EmitterPlugin for SunSky {
+    const NAME: &'static str = "sunsky";
+    const DELTA: bool = false;
+    const INFINITE: bool = true;
+
+    fn sample_li(&self, _p: Vec3, u: Vec2) -> Option<EmitterSample> {
+        SunSky::sample_li(self, u)
+    }
+
+    fn pdf_li(&self, _p: Vec3, wi: Vec3, _light_point: Vec3, _light_normal: Vec3) -> f32 {
+        SunSky::pdf_li(self, wi)
+    }
+
+    fn radiance_env(&self, d: Vec3) -> Vec3 {
+        self.radiance(d)
+    }
+
+    fn power(&self) -> Vec3 {
+        SunSky::power(self)
+    }
+
+    fn set_scene_bounds(&mut self, _center: Vec3, radius: f32) {
+        self.scene_radius = radius;
+    }
+}
+
 #[cfg(test)]
+// Mitsuba's values below are kept as its script prints them, nine significant digits.
+#[allow(clippy::excessive_precision)]
 mod tests {
     use super::super::chi2_sphere::{assert_fits, Rng, Spec};
     use super::super::Emitter;
