@@ -14,6 +14,7 @@ mod chi2_sphere;
 
 pub use light_picker::LightPicker;
 pub use shape_sampler::{ShapeSampler, TriangleSet};
+pub use sunsky::{SunPlacement, SunSkyParams, SunTime, SUN_APERTURE};
 
 use glam::{Vec2, Vec3};
 
