@@ -119,6 +119,8 @@ macro_rules! define_integrator_names {
 }
 for_each_integrator!(define_integrator_names);
 
+// The variants come from the list, so `#[default]` cannot mark one of them.
+#[allow(clippy::derivable_impls)]
 impl Default for IntegratorName {
     fn default() -> Self {
         IntegratorName::Whitted
