@@ -613,7 +613,10 @@ fn bench_embree_row_measures_embree_on_the_same_rays() {
             "{}",
             stderr(&out)
         );
-        eprintln!("skipped: {}", stderr(&out));
+        appel_testdata::skip(
+            "bench_embree_row_measures_embree_on_the_same_rays",
+            stderr(&out),
+        );
         return;
     }
     assert!(out.status.success(), "{}", stderr(&out));
@@ -851,22 +854,14 @@ fn bench_scene_reports_samples_per_second_for_a_path_traced_scene() {
 
 /// The Bitterli Cornell box in Mitsuba 3's XML, which declares `spp`, `resx`, `resy` and
 /// `max_depth` as `<default>` parameters.
-fn cornell_box_xml() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/bitterli-scenes/cornell-box/mitsuba/scene_v3.xml");
-    if p.is_file() {
-        Some(p)
-    } else {
-        eprintln!("skipping: {} is not there", p.display());
-        None
-    }
+fn cornell_box_xml() -> PathBuf {
+    appel_testdata::path("bitterli-scenes/cornell-box/mitsuba/scene_v3.xml")
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn define_sets_the_parameters_of_a_mitsuba_scene() {
-    let Some(scene) = cornell_box_xml() else {
-        return;
-    };
+    let scene = cornell_box_xml();
     let scene = scene.to_str().unwrap();
     let dir = tempfile::tempdir().unwrap();
     let args = [
@@ -925,10 +920,9 @@ fn define_sets_the_parameters_of_a_mitsuba_scene() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn define_is_rejected_where_it_cannot_apply() {
-    let Some(scene) = cornell_box_xml() else {
-        return;
-    };
+    let scene = cornell_box_xml();
     let scene = scene.to_str().unwrap();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("s.toml"), CAMERA).unwrap();

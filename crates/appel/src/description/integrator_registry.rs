@@ -119,7 +119,7 @@ macro_rules! define_integrator_names {
 }
 for_each_integrator!(define_integrator_names);
 
-// The variants come from the list, so `#[default]` cannot mark one of them.
+// The enum is generated from the registry's list, where no variant can carry `#[default]`.
 #[allow(clippy::derivable_impls)]
 impl Default for IntegratorName {
     fn default() -> Self {

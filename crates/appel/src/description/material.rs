@@ -1,6 +1,7 @@
 //! `[materials.NAME]`: one tagged table per material, `type` naming the model. Whitted's
-//! phenomenological model sits beside the physically based BSDFs of Mitsuba 3, with Mitsuba's
-//! parameter names and defaults, so that a Mitsuba scene maps onto this schema key for key.
+//! phenomenological model (`phong`) sits beside the physically based BSDFs of Mitsuba 3, with
+//! Mitsuba's parameter names and defaults, so that a Mitsuba scene maps onto this schema key for
+//! key.
 
 use super::Vec3f;
 use serde::{Deserialize, Serialize};
@@ -9,8 +10,9 @@ use serde::{Deserialize, Serialize};
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 pub enum MaterialDesc {
     /// Whitted's model: `ambient * ka + sum over visible lights (kd * color * cos + ks * blinn^n) +
-    /// kr * reflected + kt * transmitted`.
-    Whitted(WhittedDesc),
+    /// kr * reflected + kt * transmitted`. `whitted` is its older name.
+    #[serde(alias = "whitted")]
+    Phong(PhongDesc),
     /// Lambertian reflection.
     Diffuse(DiffuseDesc),
     /// A smooth metal: a mirror weighted by the complex Fresnel reflectance.
@@ -45,8 +47,8 @@ pub enum MaterialDesc {
     Blend(BlendDesc),
 }
 
-/// Reads `[materials]`: a table without `type` is a Whitted material, as every material was before
-/// the physically based ones, so that older scene files keep their meaning. Each entry is read
+/// Reads `[materials]`: a table without `type` is a `phong` (Whitted) material, as every material
+/// was before the physically based ones, so that older scene files keep their meaning. Each entry is read
 /// through a `toml::Table` (either syntax deserializes into one) to add the missing tag; an error
 /// then points at the entry's table.
 pub(super) fn deserialize_materials<'de, D: serde::Deserializer<'de>>(
@@ -58,7 +60,7 @@ pub(super) fn deserialize_materials<'de, D: serde::Deserializer<'de>>(
             let mut table = toml::Table::deserialize(d)?;
             table
                 .entry("type")
-                .or_insert_with(|| toml::Value::String("whitted".into()));
+                .or_insert_with(|| toml::Value::String("phong".into()));
             MaterialDesc::deserialize(toml::Value::Table(table))
                 .map(WhittedByDefault)
                 .map_err(serde::de::Error::custom)
@@ -70,7 +72,7 @@ pub(super) fn deserialize_materials<'de, D: serde::Deserializer<'de>>(
 
 impl Default for MaterialDesc {
     fn default() -> Self {
-        MaterialDesc::Whitted(WhittedDesc::default())
+        MaterialDesc::Phong(PhongDesc::default())
     }
 }
 
@@ -98,7 +100,7 @@ impl MaterialDesc {
             v.as_ref().map(|v| (k, v))
         }
         let t: Vec<Option<(&'static str, &TextureDesc)>> = match self {
-            MaterialDesc::Whitted(_) | MaterialDesc::TwoSided(_) => vec![],
+            MaterialDesc::Phong(_) | MaterialDesc::TwoSided(_) => vec![],
             MaterialDesc::Diffuse(d) => vec![Some(("reflectance", &d.reflectance))],
             MaterialDesc::Conductor(c) => {
                 vec![Some(("specular_reflectance", &c.specular_reflectance))]
@@ -182,10 +184,10 @@ impl MaterialDesc {
     }
 }
 
-/// Whitted's shading model; see [`MaterialDesc::Whitted`].
+/// Whitted's shading model, the `phong` BSDF; see [`MaterialDesc::Phong`].
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
-pub struct WhittedDesc {
+pub struct PhongDesc {
     /// Base (diffuse) colour, linear RGB.
     #[serde(default = "default_color")]
     pub color: Vec3f,
@@ -211,7 +213,7 @@ pub struct WhittedDesc {
     pub fresnel: bool,
 }
 
-impl Default for WhittedDesc {
+impl Default for PhongDesc {
     fn default() -> Self {
         Self {
             color: default_color(),

@@ -294,7 +294,7 @@ impl Description {
         d.camera.eye = sc(d.camera.eye);
         d.camera.look_at = sc(d.camera.look_at);
         for m in d.materials.values_mut() {
-            if let MaterialDesc::Whitted(WhittedDesc {
+            if let MaterialDesc::Phong(PhongDesc {
                 checker: Some(c), ..
             }) = m
             {

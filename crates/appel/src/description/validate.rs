@@ -259,7 +259,7 @@ fn light(c: &mut Checker, l: &LightDesc) -> Check {
 }
 
 fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> Check {
-    if let MaterialDesc::Whitted(w) = m {
+    if let MaterialDesc::Phong(w) = m {
         c.non_negative("color", &w.color)?;
         for (k, v) in [
             ("ambient", w.ambient),

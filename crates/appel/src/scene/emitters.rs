@@ -24,6 +24,9 @@ pub struct SceneEmitters {
     pub of_shape: Vec<u32>,
     /// The infinite emitters (environment), which rays leaving the scene see.
     pub infinite: Vec<u32>,
+    /// The delta emitters (points, spots, projectors, directional lights), in order: the lights
+    /// of `whitted` and `raycast`, which shade from every one with a shadow ray.
+    pub delta: Vec<u32>,
 }
 
 impl SceneEmitters {
@@ -195,11 +198,15 @@ impl SceneEmitters {
             e.set_scene_bounds(center, radius);
         }
         let powers: Vec<f32> = emitters.iter().map(Emitter::power).collect();
+        let delta = (0..emitters.len() as u32)
+            .filter(|&e| emitters[e as usize].is_delta())
+            .collect();
         Ok(Self {
             picker: LightPicker::new(&powers),
             emitters,
             of_shape,
             infinite,
+            delta,
         })
     }
 }

@@ -3,9 +3,9 @@
 //! constants (the plastics' precomputed albedos) is computed once, at scene load.
 
 use super::bsdf::{
-    Bsdf, BsdfFlags, BsdfSample, Conductor, Dielectric, Diffuse, Microfacet, MicrofacetKind,
-    Plastic, PlasticParams, Principled, PrincipledThin, RoughConductor, RoughDielectric,
-    RoughPlastic, RoughPlasticParams, ThinDielectric,
+    Bsdf, BsdfFlags, BsdfSample, Conductor, Dielectric, Diffuse, Microfacet, MicrofacetKind, Phong,
+    PhongParams, Plastic, PlasticParams, Principled, PrincipledThin, RoughConductor,
+    RoughDielectric, RoughPlastic, RoughPlasticParams, ThinDielectric,
 };
 use super::frame::ShadingFrame;
 use super::perturb::{normal_from_bump, normal_from_map, Perturbation};
@@ -14,6 +14,8 @@ use crate::math::{Vec2, Vec3};
 
 #[derive(Clone, Debug)]
 pub enum Material {
+    /// Whitted's model (`phong`), its colour a plain colour or Whitted's checkerboard.
+    Phong(PhongParams),
     Diffuse {
         reflectance: Texture,
     },
@@ -404,8 +406,62 @@ impl Material {
         matches!(self, Material::Mask { .. })
     }
 
+    /// Whether the material reads texture coordinates: surfaces may skip computing them
+    /// otherwise (a `phong` material without a checkerboard, as most of Whitted's are).
+    #[inline(always)]
+    pub fn needs_uv(&self) -> bool {
+        match self {
+            Material::Phong(p) => p.needs_uv(),
+            _ => true,
+        }
+    }
+
+    /// What the `whitted` and `raycast` integrators read of material `index` at `uv`: a `phong`
+    /// material's own lobes, any other BSDF's [`Bsdf::whitted`] response. `attributes` (asked
+    /// only for the latter) are the mesh attributes of the point.
+    #[inline(always)]
+    pub fn whitted<'a>(
+        materials: &'a [Material],
+        index: u32,
+        uv: Vec2,
+        attributes: impl FnOnce() -> Option<AttributePoint<'a>>,
+    ) -> Phong {
+        match &materials[index as usize] {
+            Material::Phong(p) => p.at(uv),
+            _ => Self::whitted_of_bsdf(
+                materials,
+                index,
+                &TexPoint {
+                    uv,
+                    attributes: attributes(),
+                },
+            ),
+        }
+    }
+
+    /// [`Self::whitted`] of a material other than `phong`, out of line. Whitted's surfaces are
+    /// two-sided and are not cut out, and its rays follow the geometric surface: a two-sided
+    /// material is seen as its front, a mask or a normal or bump map as the material inside it, a
+    /// blend as its first BSDF.
+    #[inline(never)]
+    fn whitted_of_bsdf(materials: &[Material], index: u32, tp: &TexPoint) -> Phong {
+        let mut m = &materials[index as usize];
+        for _ in 0..MAX_NESTING {
+            m = match m {
+                Material::TwoSided { front, .. } => &materials[*front as usize],
+                Material::Mask { inner, .. }
+                | Material::NormalMap { inner, .. }
+                | Material::BumpMap { inner, .. } => &materials[*inner as usize],
+                Material::Blend { first, .. } => &materials[*first as usize],
+                _ => break,
+            };
+        }
+        m.leaf_bsdf(tp).whitted()
+    }
+
     fn leaf_bsdf(&self, tp: &TexPoint) -> Bsdf {
         match self {
+            Material::Phong(p) => Bsdf::Phong(p.at(tp.uv)),
             Material::Diffuse { reflectance } => Bsdf::Diffuse(Diffuse::new(
                 reflectance.eval_at(tp).clamp(Vec3::ZERO, Vec3::ONE),
             )),

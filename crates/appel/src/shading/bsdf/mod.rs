@@ -1,6 +1,8 @@
 //! The BSDFs of the path tracer, matching Mitsuba 3's plugins of the same names (RGB mode,
 //! radiance transport): `diffuse`, `conductor`, `roughconductor`, `dielectric`, `thindielectric`,
-//! `roughdielectric`, `plastic`, `roughplastic`, `principled`, `principledthin`.
+//! `roughdielectric`, `plastic`, `roughplastic`, `principled`, `principledthin`; and `phong`,
+//! Whitted's model, which the `whitted` and `raycast` integrators read through
+//! [`Bsdf::whitted`], the Whitted response every BSDF has.
 //!
 //! Directions are in the local shading frame (`z` = shading normal, see
 //! [`crate::shading::frame::ShadingFrame`]), unit length, both pointing away from the surface: `wo`
@@ -18,6 +20,7 @@ mod dielectric;
 mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
+mod phong;
 mod plastic;
 pub mod principled;
 mod principledthin;
@@ -34,6 +37,7 @@ pub use conductor::Conductor;
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use microfacet::{Microfacet, MicrofacetKind};
+pub use phong::{Checker, Phong, PhongParams};
 pub use plastic::{Plastic, PlasticParams};
 pub use principled::Principled;
 pub use principledthin::PrincipledThin;
@@ -119,6 +123,7 @@ pub enum Bsdf {
     RoughPlastic(RoughPlastic),
     Principled(Principled),
     PrincipledThin(PrincipledThin),
+    Phong(Phong),
 }
 
 macro_rules! dispatch {
@@ -134,6 +139,7 @@ macro_rules! dispatch {
             Bsdf::RoughPlastic($b) => $e,
             Bsdf::Principled($b) => $e,
             Bsdf::PrincipledThin($b) => $e,
+            Bsdf::Phong($b) => $e,
         }
     };
 }
