@@ -9,7 +9,8 @@
 
 use appel::accel::{Accel, AccelKind, KdOptions, KdTree, TraversalStats};
 use appel::bench::{bench_scene, throughput, BenchRays, BenchTarget};
-use appel::scene::{frame_model, model_description, Scene};
+use appel::build::{frame_model, model_description};
+use appel::scene::Scene;
 use std::path::Path;
 use std::time::Instant;
 

@@ -10,6 +10,7 @@ pub mod accel;
 pub mod api;
 pub mod bench;
 pub mod bench_frames;
+pub mod build;
 pub mod description;
 pub mod error;
 pub mod format;

@@ -1,13 +1,14 @@
 //! Scenes from files, built-in names and JSON text, with camera and render keys overridden.
 
 use super::SceneHandle;
+use crate::build::{frame_model, model_description};
 use crate::description::parse::Syntax;
 use crate::description::{description_from_str, validate, Description};
 use crate::error::{Error, Location, Result};
 use crate::format::FormatOptions;
 use crate::io::is_mesh_file;
 use crate::scene::builtin::{builtin_scene, BUILTIN_SCENES};
-use crate::scene::{frame_model, model_description, Scene};
+use crate::scene::Scene;
 use std::path::{Path, PathBuf};
 
 /// One overridden key: a `[camera]` or `[render]` key of the scene schema (or `size`, `[width,

@@ -2,184 +2,217 @@
 //! shape names one.
 
 use super::file_materials::{self, is_physically_based, Images};
-use super::{Geometry, Instance, Material, Prototype};
-use crate::accel::{AccelKind, AccelOptions};
-use crate::description::loaded_mesh::{FileCamera, FileMaterial};
-use crate::description::{LightDesc, TransformDesc, WhittedDesc};
+use super::{basic_meshes, AddShape, Entry, SceneBuilder};
+use crate::description::loaded_mesh::FileMaterial;
+use crate::description::{MeshShapeDesc, TransformDesc, WhittedDesc};
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
 use crate::io::load_mesh;
 use crate::io::vertex_normals::angle_weighted;
+use crate::scene::{Geometry, Instance, Material, Prototype, ShapeKind};
 use crate::shading::texture::Texture;
 use std::path::Path;
 
-/// What mesh files bring besides triangles: their physically based materials (by index in the
-/// scene's material list), emitting surfaces, lights, cameras and warnings.
-#[derive(Clone, Debug, Default)]
-pub struct FileExtras {
-    pub shading: Vec<(u32, crate::shading::material::Material)>,
-    /// Top-level surfaces (by `Geometry::shapes` index) that emit, with their radiance.
-    pub emission: Vec<(u32, Texture)>,
-    pub lights: Vec<LightDesc>,
-    pub cameras: Vec<FileCamera>,
-    pub warnings: Vec<String>,
-    /// Whether any file material maps onto a physically based material (the Monte Carlo
-    /// integrators then show it as meant).
-    pub physically_based: bool,
+/// A mesh file to load, and how.
+pub struct MeshFile<'a> {
+    pub path: &'a Path,
+    pub transform: Option<&'a TransformDesc>,
+    /// The scene material that replaces the file's own, when the scene names one.
+    pub material: Option<u32>,
+    /// Give parts without vertex normals smooth ones, computed from the transformed positions (as
+    /// Mitsuba computes them after applying `to_world`).
+    pub smooth_normals: bool,
 }
 
-/// Loads `path`, transforms it and adds one mesh shape per part. `material` overrides the file's
-/// materials when the scene names one. With `smooth_normals`, parts without vertex normals get
-/// smooth ones, computed from the transformed positions (as Mitsuba computes them after applying
-/// `to_world`).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn add_mesh_file(
-    geometry: &mut Geometry,
-    materials: &mut Vec<Material>,
-    extras: &mut FileExtras,
-    path: &Path,
-    transform: Option<&TransformDesc>,
-    material: Option<u32>,
-    smooth_normals: bool,
-    kind: AccelKind,
-    options: &AccelOptions,
-) -> Result<()> {
-    let mut loaded = load_mesh(path)?;
-    if let Some(t) = transform {
-        loaded.transform(t.matrix());
-        let finite = loaded
-            .parts
-            .iter()
-            .all(|p| p.mesh.positions.iter().all(|v| v.is_finite()))
-            && loaded.placements.iter().all(|p| p.to_world.is_finite());
-        if !finite {
-            return Err(Error::input(
-                Location::file(path),
-                "the transform moves vertices beyond the range of f32",
-            ));
-        }
-    }
-    if smooth_normals {
-        for part in loaded
-            .parts
-            .iter_mut()
-            .chain(loaded.shared.iter_mut().flatten())
-        {
-            let mesh = &mut part.mesh;
-            if mesh.normals.is_none() {
-                mesh.normals = Some(angle_weighted(&mesh.positions, &mesh.indices));
+impl AddShape for MeshShapeDesc {
+    fn add(&self, b: &mut SceneBuilder, entry: Entry) -> Result<()> {
+        let first_new_shape = b.geometry.shapes.len();
+        let path = b.base_dir.join(&self.file);
+        b.add_mesh_file(
+            None,
+            MeshFile {
+                path: &path,
+                transform: self.transform.as_ref(),
+                material: self.material.is_some().then_some(entry.material),
+                smooth_normals: self.smooth_normals,
+            },
+        )?;
+        b.steps.step(&format!("read {}", self.file))?;
+        for shape in &b.geometry.shapes[first_new_shape..] {
+            let ShapeKind::Mesh(k) = shape.kind else {
+                continue;
+            };
+            let mesh = &mut b.geometry.meshes[k as usize];
+            if self.face_normals {
+                mesh.normals = None;
+            }
+            if self.flip_normals {
+                basic_meshes::flip_normals(mesh);
             }
         }
+        Ok(())
     }
-    extras.warnings.extend(
-        loaded
-            .warnings
-            .iter()
-            .map(|w| format!("{}: {w}", path.display())),
-    );
-    extras.lights.append(&mut loaded.lights);
-    extras.cameras.append(&mut loaded.cameras);
-    // The scene index of each file material (the entry its triangles use), and its emission.
-    let mut file_material: Vec<u32> = vec![];
-    let mut emission: Vec<Option<Texture>> = vec![];
-    if material.is_none() {
-        let images = Images::decode(&loaded)?;
-        for m in &loaded.materials {
-            if is_physically_based(m) {
-                extras.physically_based = true;
-                let first = materials.len() as u32;
-                let built = file_materials::build(m, &images, first);
-                for (k, (whitted, shading)) in built.entries.into_iter().enumerate() {
-                    materials.push(whitted);
-                    extras.shading.push((first + k as u32, shading));
-                }
-                file_material.push(materials.len() as u32 - 1);
-                emission.push(built.emission);
-            } else {
-                materials.push(material_from_file(m));
-                file_material.push(materials.len() as u32 - 1);
-                emission.push(None);
-            }
-        }
-    }
-    let part_material =
-        |m: Option<u32>| material.unwrap_or_else(|| m.map_or(0, |m| file_material[m as usize]));
-    let part_emission = |m: Option<u32>| match (material, m) {
-        (None, Some(m)) => emission[m as usize].clone(),
-        _ => None,
-    };
-    let mut first_prim = 0;
-    // Attributes are read from files of one part (PLY), indexed by its vertices and triangles.
-    let mut attributes = (loaded.parts.len() == 1).then_some(loaded.attributes);
-    for part in loaded.parts {
-        let id = part_material(part.material);
-        let count = part.mesh.triangle_count() as u32;
-        let emits = part_emission(part.material);
-        let shape = geometry.push_mesh(part.mesh, id);
-        if let Some(t) = part.tangents {
-            geometry.set_mesh_tangents(geometry.meshes.len() as u32 - 1, t);
-        }
-        if let Some(e) = emits {
-            extras.emission.push((shape, e));
-        }
-        if let Some(a) = attributes.take().filter(|a| !a.is_empty()) {
-            geometry.set_mesh_attributes(geometry.meshes.len() as u32 - 1, a);
-        }
-        let source = &mut geometry.shapes[shape as usize].source;
-        source.first_prim = first_prim;
-        source.prim_table = part.file_triangles;
-        first_prim += count;
-    }
-    // Meshes the file places several times: one prototype each, one instance per placement.
-    let first_prototype = geometry.prototypes.len() as u32;
-    for parts in loaded.shared {
-        let mut g = Geometry::new(geometry.triangle_test);
-        let mut first_prim = 0;
-        for part in parts {
-            if part_emission(part.material).is_some() {
-                extras.warnings.push(format!(
-                    "{}: a mesh placed by several nodes has an emissive material; instanced \
-                     surfaces cannot emit, so it does not",
-                    path.display()
+}
+
+impl SceneBuilder<'_> {
+    /// Loads a mesh file, transforms it and adds one mesh shape per part, to `prototype` if given
+    /// (a declared mesh), else to the scene's top level.
+    pub(super) fn add_mesh_file(
+        &mut self,
+        prototype: Option<&mut Geometry>,
+        file: MeshFile,
+    ) -> Result<()> {
+        let MeshFile {
+            path,
+            transform,
+            material,
+            smooth_normals,
+        } = file;
+        let geometry = match prototype {
+            Some(g) => g,
+            None => &mut self.geometry,
+        };
+        let materials = &mut self.materials;
+        let extras = &mut self.from_files;
+        let kind = self.prototype_accel;
+        let options = &self.settings.accel_options;
+        let mut loaded = load_mesh(path)?;
+        if let Some(t) = transform {
+            loaded.transform(t.matrix());
+            let finite = loaded
+                .parts
+                .iter()
+                .all(|p| p.mesh.positions.iter().all(|v| v.is_finite()))
+                && loaded.placements.iter().all(|p| p.to_world.is_finite());
+            if !finite {
+                return Err(Error::input(
+                    Location::file(path),
+                    "the transform moves vertices beyond the range of f32",
                 ));
             }
-            let count = part.mesh.triangle_count() as u32;
-            let shape = g.push_mesh(part.mesh, part_material(part.material));
-            if let Some(t) = part.tangents {
-                g.set_mesh_tangents(g.meshes.len() as u32 - 1, t);
+        }
+        if smooth_normals {
+            for part in loaded
+                .parts
+                .iter_mut()
+                .chain(loaded.shared.iter_mut().flatten())
+            {
+                let mesh = &mut part.mesh;
+                if mesh.normals.is_none() {
+                    mesh.normals = Some(angle_weighted(&mesh.positions, &mesh.indices));
+                }
             }
-            g.shapes[shape as usize].source.first_prim = first_prim;
+        }
+        extras.warnings.extend(
+            loaded
+                .warnings
+                .iter()
+                .map(|w| format!("{}: {w}", path.display())),
+        );
+        extras.lights.append(&mut loaded.lights);
+        extras.cameras.append(&mut loaded.cameras);
+        // The scene index of each file material (the entry its triangles use), and its emission.
+        let mut file_material: Vec<u32> = vec![];
+        let mut emission: Vec<Option<Texture>> = vec![];
+        if material.is_none() {
+            let images = Images::decode(&loaded)?;
+            for m in &loaded.materials {
+                if is_physically_based(m) {
+                    extras.physically_based = true;
+                    let first = materials.len() as u32;
+                    let built = file_materials::build(m, &images, first);
+                    for (k, (whitted, shading)) in built.entries.into_iter().enumerate() {
+                        materials.push(whitted);
+                        extras.shading.push((first + k as u32, shading));
+                    }
+                    file_material.push(materials.len() as u32 - 1);
+                    emission.push(built.emission);
+                } else {
+                    materials.push(material_from_file(m));
+                    file_material.push(materials.len() as u32 - 1);
+                    emission.push(None);
+                }
+            }
+        }
+        let part_material =
+            |m: Option<u32>| material.unwrap_or_else(|| m.map_or(0, |m| file_material[m as usize]));
+        let part_emission = |m: Option<u32>| match (material, m) {
+            (None, Some(m)) => emission[m as usize].clone(),
+            _ => None,
+        };
+        let mut first_prim = 0;
+        // Attributes are read from files of one part (PLY), indexed by its vertices and triangles.
+        let mut attributes = (loaded.parts.len() == 1).then_some(loaded.attributes);
+        for part in loaded.parts {
+            let id = part_material(part.material);
+            let count = part.mesh.triangle_count() as u32;
+            let emits = part_emission(part.material);
+            let shape = geometry.push_mesh(part.mesh, id);
+            if let Some(t) = part.tangents {
+                geometry.set_mesh_tangents(geometry.meshes.len() as u32 - 1, t);
+            }
+            if let Some(e) = emits {
+                extras.emission.push((shape, e));
+            }
+            if let Some(a) = attributes.take().filter(|a| !a.is_empty()) {
+                geometry.set_mesh_attributes(geometry.meshes.len() as u32 - 1, a);
+            }
+            let source = &mut geometry.shapes[shape as usize].source;
+            source.first_prim = first_prim;
+            source.prim_table = part.file_triangles;
             first_prim += count;
         }
-        geometry.prototypes.push(Prototype::new(g, kind, options));
-    }
-    let mut instances = Vec::with_capacity(loaded.placements.len());
-    for p in &loaded.placements {
-        let Some(transform) = InstanceTransform::new(p.to_world) else {
-            return Err(Error::input(
-                Location::file(path),
-                "a node placing a shared mesh has a transform that cannot be inverted",
-            ));
-        };
-        let bounds = geometry.prototypes[(first_prototype + p.mesh) as usize].bounds;
-        let world = transform.bounds_to_world(bounds);
-        if !(world.min.is_finite() && world.max.is_finite()) {
-            return Err(Error::input(
-                Location::file(path),
-                "a node moves a shared mesh beyond the range of f32",
-            ));
+        // Meshes the file places several times: one prototype each, one instance per placement.
+        let first_prototype = geometry.prototypes.len() as u32;
+        for parts in loaded.shared {
+            let mut g = Geometry::new(geometry.triangle_test);
+            let mut first_prim = 0;
+            for part in parts {
+                if part_emission(part.material).is_some() {
+                    extras.warnings.push(format!(
+                        "{}: a mesh placed by several nodes has an emissive material; instanced \
+                         surfaces cannot emit, so it does not",
+                        path.display()
+                    ));
+                }
+                let count = part.mesh.triangle_count() as u32;
+                let shape = g.push_mesh(part.mesh, part_material(part.material));
+                if let Some(t) = part.tangents {
+                    g.set_mesh_tangents(g.meshes.len() as u32 - 1, t);
+                }
+                g.shapes[shape as usize].source.first_prim = first_prim;
+                first_prim += count;
+            }
+            geometry.prototypes.push(Prototype::new(g, kind, options));
         }
-        instances.push(Instance {
-            transform,
-            prototype: first_prototype + p.mesh,
-            source: 0,
-            first_prim: p.first_triangle,
-        });
+        let mut instances = Vec::with_capacity(loaded.placements.len());
+        for p in &loaded.placements {
+            let Some(transform) = InstanceTransform::new(p.to_world) else {
+                return Err(Error::input(
+                    Location::file(path),
+                    "a node placing a shared mesh has a transform that cannot be inverted",
+                ));
+            };
+            let bounds = geometry.prototypes[(first_prototype + p.mesh) as usize].bounds;
+            let world = transform.bounds_to_world(bounds);
+            if !(world.min.is_finite() && world.max.is_finite()) {
+                return Err(Error::input(
+                    Location::file(path),
+                    "a node moves a shared mesh beyond the range of f32",
+                ));
+            }
+            instances.push(Instance {
+                transform,
+                prototype: first_prototype + p.mesh,
+                source: 0,
+                first_prim: p.first_triangle,
+            });
+        }
+        if !instances.is_empty() {
+            geometry.push_instances(0, instances);
+        }
+        Ok(())
     }
-    if !instances.is_empty() {
-        geometry.push_instances(0, instances);
-    }
-    Ok(())
 }
 
 /// A file's material in Whitted's model (see `docs/meshes.md`): `Kd` is the diffuse colour with

@@ -3,9 +3,9 @@
 //! glTF materials, `type = "whitted"`) by their physically based equivalent.
 
 use super::textures::TextureCache;
-use super::Material as WhittedMaterial;
 use crate::description::{Description, DistributionDesc, IorDesc, MaterialDesc, TextureDesc};
 use crate::error::{Error, Result};
+use crate::scene::Material as WhittedMaterial;
 use crate::shading::bsdf::principled::specular_to_eta;
 use crate::shading::bsdf::{MicrofacetKind, PlasticParams, RoughPlasticParams};
 use crate::shading::material::{Material, PrincipledTextures, PrincipledThinTextures, Roughness};
