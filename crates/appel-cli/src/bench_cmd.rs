@@ -4,10 +4,10 @@ use appel::accel::AccelKind;
 use appel::bench::{
     bench_pairings, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget, BENCH_SCENES,
 };
-use appel::build::SceneOptions;
 use appel::description::Description;
 use appel::format::FormatOptions;
 use appel::geometry::TriangleTest;
+use appel::scene_build::SceneOptions;
 use embree_peer::BuildQuality;
 
 mod animation;

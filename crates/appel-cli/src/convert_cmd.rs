@@ -1,9 +1,9 @@
 use crate::scene_args::load_scene_with;
 use anyhow::{bail, Result};
-use appel::build::SceneOptions;
 use appel::geometry::TriangleMesh;
 use appel::math::Vec3;
 use appel::scene::{SceneHit, ShapeKind, NO_INSTANCE};
+use appel::scene_build::SceneOptions;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 

@@ -2,8 +2,8 @@
 //! available, checked before any large file is read.
 
 use anyhow::{bail, Result};
-use appel::build::estimate_memory;
 use appel::description::Description;
+use appel::scene_build::estimate_memory;
 use std::path::Path;
 
 /// `MemAvailable` from `/proc/meminfo`, in bytes: what can be allocated without swapping. `None`

@@ -1,11 +1,11 @@
 use crate::scene_args::{load_scene_with, ParamArgs, ViewArgs};
 use anyhow::{anyhow, bail, Context, Result};
-use appel::build::{LoadStep, SceneOptions};
 use appel::description::Description;
 use appel::output::heatmap::write_heatmap;
 use appel::output::image::{write_image_with, Aovs, ImageFormat};
 use appel::render::cost::CostImage;
 use appel::render::{render, RenderOptions, Window};
+use appel::scene_build::{LoadStep, SceneOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;

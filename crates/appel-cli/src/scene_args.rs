@@ -2,13 +2,13 @@
 //! or a built-in scene), the camera flags, and building it.
 
 use anyhow::{anyhow, bail, Result};
-use appel::build::{model_description, view_model, SceneOptions};
 use appel::description::parse::Syntax;
 use appel::description::{description_from_str, validate, Description};
 use appel::format::FormatOptions;
 use appel::io::is_mesh_file;
 use appel::scene::builtin::builtin_scene;
 use appel::scene::Scene;
+use appel::scene_build::{model_description, view_model, SceneOptions};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -171,7 +171,7 @@ pub fn parse_frames(s: &str) -> Result<std::ops::Range<u32>> {
     Ok(range)
 }
 
-/// The library's view of a mesh file (see `appel::build::view_model`), then the command line's
+/// The library's view of a mesh file (see `appel::scene_build::view_model`), then the command line's
 /// overrides.
 fn model_view(
     scene: &Scene,

@@ -9,8 +9,8 @@
 
 use appel::accel::{Accel, AccelKind, KdOptions, KdTree, TraversalStats};
 use appel::bench::{bench_scene, throughput, BenchRays, BenchTarget};
-use appel::build::{frame_model, model_description};
 use appel::scene::Scene;
+use appel::scene_build::{frame_model, model_description};
 use std::path::Path;
 use std::time::Instant;
 

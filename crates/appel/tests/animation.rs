@@ -3,12 +3,12 @@
 //! `appel gen cloth`, under a rebuilt top level over keyframed instances), for a refitted top
 //! level (the flag as a `[[shape]]`), and for structures that are rebuilt every frame.
 
-use appel::build::Sequence;
 use appel::description::animation::at_frame;
 use appel::description::Description;
 use appel::gen::{cloth_scene, GenOptions};
 use appel::render::{render, Film, RenderOptions};
 use appel::scene::Scene;
+use appel::scene_build::Sequence;
 use std::path::Path;
 
 fn image(scene: &Scene) -> Film {

@@ -5,9 +5,9 @@
 
 use appel::accel::{Accel, AccelKind, TraversalStats};
 use appel::bench::{bench_scene, embree_robust_for, flat_triangles, BenchRays, BenchTarget};
-use appel::build::{frame_model, model_description};
 use appel::geometry::TriangleTest;
 use appel::scene::{Camera, Scene};
+use appel::scene_build::{frame_model, model_description};
 use embree_peer::{BuildQuality, Embree};
 use std::path::Path;
 

@@ -1,10 +1,10 @@
 //! `type = "mesh"` shapes in scene files, and framing a bare model.
 
-use appel::build::{frame_model, model_description};
 use appel::math::Vec3;
 use appel::output::write_ply;
 use appel::render::{render, RenderOptions, MISS_ID};
 use appel::scene::Scene;
+use appel::scene_build::{frame_model, model_description};
 use std::path::{Path, PathBuf};
 
 fn write_scene(dir: &Path, shapes: &str) -> PathBuf {

@@ -6,9 +6,9 @@
 //! next render instead of following it.
 
 use appel::accel::TraversalStats;
-use appel::build::{FrameUpdate, Sequence};
 use appel::render::{render, Film, RenderOptions, RenderStats};
 use appel::scene::{Camera, IntegratorKind, Scene};
+use appel::scene_build::{FrameUpdate, Sequence};
 use rayon::prelude::*;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};

@@ -1,7 +1,6 @@
 //! Scenes from files, built-in names and JSON text, with camera and render keys overridden.
 
 use super::SceneHandle;
-use crate::build::{frame_model, model_description};
 use crate::description::parse::Syntax;
 use crate::description::{description_from_str, validate, Description};
 use crate::error::{Error, Location, Result};
@@ -9,6 +8,7 @@ use crate::format::FormatOptions;
 use crate::io::is_mesh_file;
 use crate::scene::builtin::{builtin_scene, BUILTIN_SCENES};
 use crate::scene::Scene;
+use crate::scene_build::{frame_model, model_description};
 use std::path::{Path, PathBuf};
 
 /// One overridden key: a `[camera]` or `[render]` key of the scene schema (or `size`, `[width,

@@ -3,10 +3,10 @@
 use super::load::{apply_overrides, Override};
 use super::SceneHandle;
 use crate::accel::{Accel, AccelKind};
-use crate::build::frame_model;
 use crate::error::{Error, Result};
 use crate::geometry::{InstanceTransform, TriangleMesh};
 use crate::scene::{Geometry, Instance, Prototype, Scene};
+use crate::scene_build::frame_model;
 use glam::Mat4;
 use std::path::Path;
 
@@ -37,7 +37,7 @@ impl SceneHandle {
                 AccelKind::NAMES.join(", ")
             ))
         })?;
-        let mut d = crate::build::model_description("");
+        let mut d = crate::scene_build::model_description("");
         d.shapes.clear();
         d.render.accel = accel.to_string();
         let mut scene = Scene::new(&d, Path::new("."))?;

@@ -1,5 +1,5 @@
 //! The scene ready to render: geometry, acceleration structure, materials, lights and camera, and
-//! the queries rays make of them. Building one from a description is `crate::build`'s work.
+//! the queries rays make of them. Building one from a description is `crate::scene_build`'s work.
 
 pub mod builtin;
 mod camera;
