@@ -29,7 +29,7 @@ use std::time::Duration;
 /// Which integrator renders the scene.
 pub use crate::description::IntegratorName as IntegratorKind;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
     pub integrator: IntegratorKind,
     pub max_depth: i32,
@@ -42,6 +42,8 @@ pub struct RenderSettings {
     pub accel: AccelKind,
     /// `[render.NAME]` of each structure.
     pub accel_options: AccelOptions,
+    /// `[render.NAME]` of each integrator.
+    pub integrator_params: description::IntegratorParams,
 }
 
 /// How long building the scene took, phase by phase.

@@ -121,7 +121,7 @@ impl<'a> SceneBuilder<'a> {
             rr_depth: d.render.rr_depth,
             hide_emitters: d.render.hide_emitters,
             spp: d.render.spp,
-            sampler: d.render.integrator.sampler(d.render.sampler),
+            sampler: d.render.image_integrator().sampler(d.render.sampler),
             seed: d.render.seed,
             filter: d.render.filter,
             accel: AccelKind::from_name(&d.render.accel).ok_or_else(|| {
@@ -131,6 +131,7 @@ impl<'a> SceneBuilder<'a> {
                 ))
             })?,
             accel_options: d.render.accel_options(),
+            integrator_params: d.render.integrator_params(),
         };
         let prototype_accel = if options.skip_structures {
             AccelKind::Brute
