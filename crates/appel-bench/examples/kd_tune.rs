@@ -8,7 +8,8 @@
 //! `valgrind --tool=callgrind` or `--tool=cachegrind --branch-sim=yes`.
 
 use appel::accel::{Accel, AccelKind, KdOptions, KdTree, TraversalStats};
-use appel::scene::{frame_model, model_description, Scene};
+use appel::scene::Scene;
+use appel::scene_build::{frame_model, model_description};
 use appel_bench::{bench_scene, throughput, BenchRays, BenchTarget};
 use std::path::Path;
 use std::time::Instant;

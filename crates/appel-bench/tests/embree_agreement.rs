@@ -6,7 +6,8 @@
 
 use appel::accel::{Accel, AccelKind, TraversalStats};
 use appel::geometry::TriangleTest;
-use appel::scene::{frame_model, model_description, Camera, Scene};
+use appel::scene::{Camera, Scene};
+use appel::scene_build::{frame_model, model_description};
 use appel_bench::{bench_scene, embree_robust_for, flat_triangles, BenchRays, BenchTarget};
 use embree_peer::{BuildQuality, Embree};
 

@@ -4,7 +4,7 @@ use appel::accel::AccelKind;
 use appel::description::Description;
 use appel::format::FormatOptions;
 use appel::geometry::TriangleTest;
-use appel::scene::SceneOptions;
+use appel::scene_build::SceneOptions;
 use appel_bench::{
     bench_pairings, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget, BENCH_SCENES,
 };

@@ -2,7 +2,8 @@ use crate::scene_args::load_scene_with;
 use anyhow::{bail, Result};
 use appel::geometry::TriangleMesh;
 use appel::math::Vec3;
-use appel::scene::{SceneHit, SceneOptions, ShapeKind, NO_INSTANCE};
+use appel::scene::{SceneHit, ShapeKind, NO_INSTANCE};
+use appel::scene_build::SceneOptions;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 

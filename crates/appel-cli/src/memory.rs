@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Result};
 use appel::description::Description;
-use appel::scene::estimate_memory;
+use appel::scene_build::estimate_memory;
 use std::path::Path;
 
 /// `MemAvailable` from `/proc/meminfo`, in bytes: what can be allocated without swapping. `None`

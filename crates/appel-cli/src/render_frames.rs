@@ -1,6 +1,6 @@
 //! `appel render anim.toml --frames A..B -o out_{frame:04}.png`: renders frames A to B-1 of an
 //! animated scene, each written to the output name with `{frame...}` replaced by its number. The
-//! structures of one frame are refitted to the next (`appel::scene::Sequence`).
+//! structures of one frame are refitted to the next (`appel::scene_build::Sequence`).
 
 use crate::render_cmd::RenderArgs;
 use crate::scene_args::{load_description_only, parse_frames};
@@ -9,7 +9,7 @@ use appel::description::animation::{check_pattern, frame_count, frame_file, is_p
 use appel::output::image::{write_image_with, Aovs};
 use appel::render::cost::CostImage;
 use appel::render::{render, RenderOptions};
-use appel::scene::Sequence;
+use appel::scene_build::Sequence;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 

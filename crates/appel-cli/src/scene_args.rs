@@ -5,7 +5,8 @@ use anyhow::{anyhow, bail, Result};
 use appel::api::{build_resolved, resolve_description, RequestNames, ResolvedScene, SceneRequest};
 use appel::description::Description;
 use appel::format::FormatOptions;
-use appel::scene::{Scene, SceneOptions};
+use appel::scene::Scene;
+use appel::scene_build::SceneOptions;
 use std::path::PathBuf;
 use std::time::Duration;
 

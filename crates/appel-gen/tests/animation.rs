@@ -6,7 +6,8 @@
 use appel::description::animation::at_frame;
 use appel::description::Description;
 use appel::render::{render, Film, RenderOptions};
-use appel::scene::{Scene, Sequence};
+use appel::scene::Scene;
+use appel::scene_build::Sequence;
 use appel_gen::{cloth_scene, GenOptions};
 use std::path::Path;
 

@@ -3,7 +3,9 @@
 //! The crate is layered so that data flows one way (see `docs/architecture.md`), bottom to top:
 //! `math`, `error` -> `geometry` -> `accel` -> `description` (the scene description and the values
 //! readers and shading share) -> `io` (leaf readers: meshes, images, archives) -> `shading`,
-//! `format` (scene formats) -> `scene` -> `render` -> `output`, `query`, `api`.
+//! `format` (scene formats) -> `scene` (the runtime scene) -> `scene_build` (a scene from its
+//! description)
+//! -> `render` -> `output`, `query`, `api`.
 //! Nothing in a lower layer names anything of a higher one, and nothing here knows about the command line.
 
 pub mod accel;
@@ -18,6 +20,7 @@ pub mod output;
 pub mod query;
 pub mod render;
 pub mod scene;
+pub mod scene_build;
 pub mod shading;
 
 pub use error::{Error, Result};

@@ -3,7 +3,8 @@
 use appel::math::Vec3;
 use appel::output::write_ply;
 use appel::render::{render, RenderOptions, MISS_ID};
-use appel::scene::{frame_model, model_description, Scene};
+use appel::scene::Scene;
+use appel::scene_build::{frame_model, model_description};
 use std::path::{Path, PathBuf};
 
 fn write_scene(dir: &Path, shapes: &str) -> PathBuf {

@@ -5,7 +5,8 @@
 use appel::accel::TraversalStats;
 use appel::io::load_mesh;
 use appel::render::{render, Film, RenderOptions};
-use appel::scene::{model_description, view_model, IntegratorKind, Scene};
+use appel::scene::{IntegratorKind, Scene};
+use appel::scene_build::{model_description, view_model};
 use glam::{Vec2, Vec3};
 use std::io::Write;
 use std::path::{Path, PathBuf};

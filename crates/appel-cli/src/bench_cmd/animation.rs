@@ -1,5 +1,5 @@
 //! `appel bench anim.toml --frames N`: frames 0 to N-1 of an animated scene, each reached from
-//! the previous by the refit policy of `appel::scene::Sequence`, with per frame the time to
+//! the previous by the refit policy of `appel::scene_build::Sequence`, with per frame the time to
 //! refit and to rebuild, the time a build from scratch of the same frame takes, the render's
 //! Mrays/s and the SAH cost drift of the refitted trees.
 
@@ -8,7 +8,8 @@ use crate::scene_args::load_description_only;
 use anyhow::{bail, Context, Result};
 use appel::description::animation::{at_frame, frame_count};
 use appel::render::{render, RenderOptions};
-use appel::scene::{Scene, Sequence};
+use appel::scene::Scene;
+use appel::scene_build::Sequence;
 
 /// One frame's figures.
 struct FrameFigures {

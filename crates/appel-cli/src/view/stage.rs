@@ -7,7 +7,8 @@
 
 use appel::accel::TraversalStats;
 use appel::render::{render, Film, RenderOptions, RenderStats};
-use appel::scene::{Camera, FrameUpdate, IntegratorKind, Scene, Sequence};
+use appel::scene::{Camera, IntegratorKind, Scene};
+use appel::scene_build::{FrameUpdate, Sequence};
 use rayon::prelude::*;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};

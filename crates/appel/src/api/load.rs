@@ -8,7 +8,8 @@ use crate::description::{description_from_str, validate, Description};
 use crate::error::{Error, Location, Result};
 use crate::format::FormatOptions;
 use crate::scene::builtin::builtin_scene;
-use crate::scene::{Scene, SceneOptions};
+use crate::scene::Scene;
+use crate::scene_build::SceneOptions;
 use std::path::{Path, PathBuf};
 
 /// One overridden key: a `[camera]` or `[render]` key of the scene schema (or `size`, `[width,

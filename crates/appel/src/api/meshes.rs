@@ -5,7 +5,8 @@ use super::SceneHandle;
 use crate::accel::{Accel, AccelKind};
 use crate::error::{Error, Result};
 use crate::geometry::{InstanceTransform, TriangleMesh};
-use crate::scene::{frame_model, Geometry, Instance, Prototype, Scene};
+use crate::scene::{Geometry, Instance, Prototype, Scene};
+use crate::scene_build::frame_model;
 use glam::Mat4;
 use std::path::Path;
 
@@ -36,7 +37,7 @@ impl SceneHandle {
                 AccelKind::NAMES.join(", ")
             ))
         })?;
-        let mut d = crate::scene::model_description("");
+        let mut d = crate::scene_build::model_description("");
         d.shapes.clear();
         d.render.accel = accel.to_string();
         let mut scene = Scene::new(&d, Path::new("."))?;

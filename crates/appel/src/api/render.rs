@@ -51,7 +51,7 @@ impl SceneHandle {
                     )));
                 }
             }
-            let mut d = crate::scene::model_description("mesh.ply");
+            let mut d = crate::scene_build::model_description("mesh.ply");
             d.camera = self.camera.clone();
             apply_overrides(&mut d, r.camera)?;
             Some(Camera::new(&d.camera))

@@ -14,7 +14,8 @@ use crate::error::{Error, Result};
 use crate::format::FormatOptions;
 use crate::io::is_mesh_file;
 use crate::scene::builtin::{builtin_scene, BUILTIN_SCENES};
-use crate::scene::{model_description, view_model, Scene, SceneOptions};
+use crate::scene::Scene;
+use crate::scene_build::{model_description, view_model, SceneOptions};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 

@@ -165,9 +165,9 @@ fn mtl_siblings() -> Vec<(&'static str, Vec<u8>)> {
 fn read_model(path: &Path) -> Result<()> {
     let dir = path.parent().expect("in a folder");
     let file = path.file_name().and_then(|f| f.to_str()).expect("a name");
-    let description = appel::scene::model_description(file);
+    let description = appel::scene_build::model_description(file);
     let mut scene = Scene::new(&description, dir)?;
-    let framed = appel::scene::view_model(&scene, &description, None)?;
+    let framed = appel::scene_build::view_model(&scene, &description, None)?;
     validate::validate(&framed).map_err(|e| Error::Invalid(e.message))?;
     scene.set_view(&framed)
 }
@@ -202,7 +202,7 @@ fn read_scene(path: &Path) -> Result<()> {
     let mut d: Description = loaded.description;
     d.camera.width = d.camera.width.min(16);
     d.camera.height = d.camera.height.min(16);
-    let estimate = appel::scene::estimate_memory(&d, &loaded.base_dir)?;
+    let estimate = appel::scene_build::estimate_memory(&d, &loaded.base_dir)?;
     if estimate.bytes > MAX_SCENE_BYTES {
         // The command line refuses such a scene before loading it.
         return Ok(());

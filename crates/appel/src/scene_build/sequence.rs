@@ -17,10 +17,12 @@
 //! every structure returns the closest hit, so the images agree (tested in
 //! `crates/appel-gen/tests/animation.rs`).
 
-use super::{Description, Scene, SceneOptions};
+use super::SceneOptions;
 use crate::accel::{Accel, Brute};
 use crate::description::animation::{at_frame, frame_count};
+use crate::description::Description;
 use crate::error::{Error, Result};
+use crate::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 

@@ -1,33 +1,16 @@
-//! The scene's emitters for the Monte Carlo integrators: `[[light]]` entries and the surfaces with
-//! an `emitter`, the power-based choice among them, and which surface emits as which emitter.
+//! Building the scene's emitters: each `[[light]]` and emitting surface becomes an emitter, and the
+//! picker weighs them by power.
 
-use super::geometry::{Geometry, ShapeKind};
 use super::textures::TextureCache;
 use crate::description::{Description, FovAxis, LightDesc};
 use crate::error::{Error, Location, Result};
+use crate::scene::{Geometry, SceneEmitters, ShapeKind, NO_EMITTER};
 use crate::shading::emitter::{
     AreaEmitter, ConstantEnvironment, DirectionalLight, Emitter, EnvMap, LightPicker, PointLight,
     Projector, ShapeSampler, SpotLight, SunPlacement, SunSky, SunSkyParams, SunTime,
 };
 use crate::shading::texture::Texture;
 use glam::{Mat4, Vec2, Vec3};
-
-/// [`SceneEmitters::of_shape`] of a surface that does not emit.
-pub const NO_EMITTER: u32 = u32::MAX;
-
-#[derive(Clone, Debug)]
-pub struct SceneEmitters {
-    pub emitters: Vec<Emitter>,
-    /// Chooses an emitter for next-event estimation in proportion to its power.
-    pub picker: LightPicker,
-    /// The emitter of each top-level surface (by `Geometry::shapes` index), or [`NO_EMITTER`].
-    pub of_shape: Vec<u32>,
-    /// The infinite emitters (environment), which rays leaving the scene see.
-    pub infinite: Vec<u32>,
-    /// The delta emitters (points, spots, projectors, directional lights), in order: the lights
-    /// of `whitted` and `raycast`, which shade from every one with a shadow ray.
-    pub delta: Vec<u32>,
-}
 
 impl SceneEmitters {
     /// `surfaces` are surfaces that emit by their mesh file's material (glTF emission), by
