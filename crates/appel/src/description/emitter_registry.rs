@@ -10,7 +10,7 @@
 /// - `light`: whether it is a `[[light]]` of its own (`false`: a surface's `emitter`).
 ///
 /// Adding an emitter is its runtime file, its `[[light]]` variant (`light.rs`), one line here,
-/// the scene's construction of it (`scene/emitters.rs`) and the format mappings that name it.
+/// the scene's construction of it (`scene_build/emitters.rs`) and the format mappings that name it.
 /// `$then` may be given leading tokens to carry (`$then!(tokens)`).
 macro_rules! for_each_emitter {
     ($then:ident $(($($carry:tt)*))?) => {
