@@ -426,10 +426,10 @@ fn malformed_scenes_fail_at_their_line() {
     let e = err("<scene version=\"3.0.0\">\n<shape type=\"sphere\"/></scene>");
     assert!(e.contains("the scene has no <sensor>"), "{e}");
     let e = err(&format!(
-        "<scene version=\"3.0.0\">{CAMERA}\n<emitter type=\"sunsky\"/></scene>"
+        "<scene version=\"3.0.0\">{CAMERA}\n<emitter type=\"timed_sunsky\"/></scene>"
     ));
     assert!(
-        e.starts_with("scene.xml:2:1: <emitter type=\"sunsky\">: unsupported emitter plugin"),
+        e.starts_with("scene.xml:2:1: <emitter type=\"timed_sunsky\">: unsupported emitter plugin"),
         "{e}"
     );
 }
