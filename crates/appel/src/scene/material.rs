@@ -1,4 +1,4 @@
-use super::description::{IorDesc, MaterialDesc, TextureDesc, TextureNode, WhittedDesc};
+use super::description::{MaterialDesc, WhittedDesc};
 use crate::math::{Vec2, Vec3};
 use std::collections::BTreeMap;
 
@@ -81,93 +81,22 @@ fn whitted_equivalent(
     all: &BTreeMap<String, MaterialDesc>,
     depth: u32,
 ) -> WhittedDesc {
-    let grey = |t: &TextureDesc| match t {
-        TextureDesc::Value(v) => [*v; 3],
-        TextureDesc::Rgb(c) => *c,
-        TextureDesc::Texture(TextureNode::Checkerboard { color0, .. }) => *color0,
-        TextureDesc::Texture(TextureNode::Bitmap { .. } | TextureNode::MeshAttribute { .. }) => {
-            [0.5; 3]
-        }
-    };
-    let ior = |i: &IorDesc, e: &IorDesc| {
-        let v = |x: &IorDesc| match x {
-            IorDesc::Value(v) => *v,
-            IorDesc::Named(n) if n == "air" || n == "vacuum" => 1.0,
-            IorDesc::Named(_) => 1.5,
-        };
-        v(i) / v(e)
-    };
+    if let Some(w) = d.bsdf_whitted() {
+        return w;
+    }
     let nested = |name: &str| match all.get(name) {
         Some(m) if depth < 8 => whitted_equivalent(m, all, depth + 1),
         _ => WhittedDesc::default(),
     };
-    let base = WhittedDesc {
-        ambient: 0.0,
-        diffuse: 1.0,
-        ..Default::default()
-    };
     match d {
         MaterialDesc::Whitted(w) => w.clone(),
-        MaterialDesc::Diffuse(m) => WhittedDesc {
-            color: grey(&m.reflectance),
-            ..base
-        },
-        MaterialDesc::Conductor(m) => WhittedDesc {
-            color: grey(&m.specular_reflectance),
-            diffuse: 0.0,
-            reflection: 1.0,
-            ..base
-        },
-        MaterialDesc::RoughConductor(m) => WhittedDesc {
-            color: grey(&m.specular_reflectance),
-            diffuse: 0.0,
-            reflection: 1.0,
-            ..base
-        },
-        MaterialDesc::Dielectric(m) | MaterialDesc::ThinDielectric(m) => WhittedDesc {
-            diffuse: 0.0,
-            transmission: 1.0,
-            reflection: 1.0,
-            fresnel: true,
-            ior: ior(&m.int_ior, &m.ext_ior),
-            ..base
-        },
-        MaterialDesc::RoughDielectric(m) => WhittedDesc {
-            diffuse: 0.0,
-            transmission: 1.0,
-            reflection: 1.0,
-            fresnel: true,
-            ior: ior(&m.int_ior, &m.ext_ior),
-            ..base
-        },
-        MaterialDesc::Plastic(m) => WhittedDesc {
-            color: grey(&m.diffuse_reflectance),
-            specular: 1.0,
-            shininess: 200.0,
-            ..base
-        },
-        MaterialDesc::RoughPlastic(m) => WhittedDesc {
-            color: grey(&m.diffuse_reflectance),
-            specular: 1.0,
-            shininess: 30.0,
-            ..base
-        },
-        // The diffuse base, with the glossy lobe as a highlight.
-        MaterialDesc::Principled(m) => WhittedDesc {
-            color: grey(&m.base_color),
-            specular: 0.5,
-            shininess: 50.0,
-            ..base
-        },
-        MaterialDesc::PrincipledThin(m) => WhittedDesc {
-            color: grey(&m.base_color),
-            ..base
-        },
         MaterialDesc::TwoSided(t) => nested(&t.front),
         MaterialDesc::Mask(m) => nested(&m.material),
         MaterialDesc::NormalMap(m) => nested(&m.material),
         MaterialDesc::BumpMap(m) => nested(&m.material),
         MaterialDesc::Blend(m) => nested(&m.materials[0]),
+        // Every BSDF has its view above.
+        _ => WhittedDesc::default(),
     }
 }
 

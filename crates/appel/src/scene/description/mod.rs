@@ -1,13 +1,24 @@
 //! The scene file's schema: plain serde data, exactly what the user wrote (with defaults filled in).
 //! `docs/scene-format.md` documents every key. Unknown keys are rejected.
 
+pub mod bsdf;
+pub(crate) mod bsdf_registry;
 mod light;
 mod material;
 mod render;
 mod shape;
 
+pub(crate) use bsdf_registry::for_each_bsdf;
 pub use light::{AreaEmitterDesc, LightDesc};
 pub use material::*;
+
+macro_rules! export_bsdf_descs {
+    ($($Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
+        pub use bsdf::{$($Desc,)*};
+    };
+}
+bsdf_registry::for_each_bsdf!(export_bsdf_descs);
+pub use bsdf::{BsdfParams, DistributionDesc, LayerDesc, ParamError, DEFAULT_ALPHA};
 pub use render::*;
 pub use shape::*;
 
