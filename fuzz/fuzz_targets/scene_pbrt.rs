@@ -1,6 +1,6 @@
 //! Any text given as a pbrt-v4 scene is read into a description or an error, never a panic.
 #![no_main]
-use appel::io::pbrt::pbrt_from_str;
+use appel::format::pbrt::pbrt_from_str;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

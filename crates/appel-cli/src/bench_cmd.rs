@@ -4,9 +4,10 @@ use appel::accel::AccelKind;
 use appel::bench::{
     bench_pairings, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget, BENCH_SCENES,
 };
+use appel::description::Description;
+use appel::format::FormatOptions;
 use appel::geometry::TriangleTest;
-use appel::io::mitsuba::XmlOptions;
-use appel::scene::{Description, SceneOptions};
+use appel::scene::SceneOptions;
 use embree_peer::BuildQuality;
 
 mod animation;
@@ -121,7 +122,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             args.embree_quality
         )
     })?;
-    let xml = args.params.xml_options()?;
+    let xml = args.params.format_options()?;
     let mut target = load_target(&args.target, args.triangles, w, h, &args.view, &xml)?;
     let tests = match (&args.triangle, args.embree) {
         (Some(list), _) => parse_triangle_tests(list)?,
@@ -338,7 +339,7 @@ fn load_target(
     w: u32,
     h: u32,
     view: &ViewArgs,
-    xml: &XmlOptions,
+    xml: &FormatOptions,
 ) -> Result<BenchTarget> {
     if let Some(mut t) = bench_scene(name, triangles, w, h) {
         if !xml.params.is_empty() {

@@ -2,7 +2,8 @@
 //! available, checked before any large file is read.
 
 use anyhow::{bail, Result};
-use appel::scene::{estimate_memory, Description};
+use appel::description::Description;
+use appel::scene::estimate_memory;
 use std::path::Path;
 
 /// `MemAvailable` from `/proc/meminfo`, in bytes: what can be allocated without swapping. `None`

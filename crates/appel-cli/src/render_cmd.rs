@@ -1,10 +1,11 @@
 use crate::scene_args::{load_scene_with, ParamArgs, ViewArgs};
 use anyhow::{anyhow, bail, Context, Result};
+use appel::description::Description;
 use appel::output::heatmap::write_heatmap;
 use appel::output::image::{write_image_with, Aovs, ImageFormat};
 use appel::render::cost::CostImage;
 use appel::render::{render, RenderOptions, Window};
-use appel::scene::{Description, LoadStep, SceneOptions};
+use appel::scene::{LoadStep, SceneOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -102,7 +103,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if let Some(frames) = &args.frames {
         return crate::render_frames::run(&args, frames, aovs);
     }
-    let xml = args.params.xml_options()?;
+    let xml = args.params.format_options()?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()

@@ -5,10 +5,10 @@
 use crate::render_cmd::RenderArgs;
 use crate::scene_args::{load_description_only, parse_frames};
 use anyhow::{anyhow, bail, Context, Result};
+use appel::description::animation::{check_pattern, frame_count, frame_file, is_pattern};
 use appel::output::image::{write_image_with, Aovs};
 use appel::render::cost::CostImage;
 use appel::render::{render, RenderOptions};
-use appel::scene::animation::{check_pattern, frame_count, frame_file, is_pattern};
 use appel::scene::Sequence;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -26,7 +26,7 @@ pub fn run(args: &RenderArgs, frames: &str, aovs: Aovs) -> Result<()> {
     if args.window.is_some() || args.time_limit.is_some() {
         bail!("--frames renders whole frames: --window and --time-limit are for single images");
     }
-    let xml = args.params.xml_options()?;
+    let xml = args.params.format_options()?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()

@@ -2,14 +2,12 @@
 //! or a built-in scene), the camera flags, and building it.
 
 use anyhow::{anyhow, bail, Result};
+use appel::description::parse::Syntax;
+use appel::description::{description_from_str, validate, Description};
+use appel::format::FormatOptions;
 use appel::io::is_mesh_file;
-use appel::io::mitsuba::XmlOptions;
 use appel::scene::builtin::builtin_scene;
-use appel::scene::parse::Syntax;
-use appel::scene::{
-    description_from_str, is_xml, load_description, load_xml_description, model_description,
-    validate, view_model, Description, Scene, SceneOptions,
-};
+use appel::scene::{model_description, view_model, Scene, SceneOptions};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -68,7 +66,7 @@ pub struct ParamArgs {
 }
 
 impl ParamArgs {
-    pub fn xml_options(&self) -> Result<XmlOptions> {
+    pub fn format_options(&self) -> Result<FormatOptions> {
         let params = self
             .define
             .iter()
@@ -81,7 +79,7 @@ impl ParamArgs {
                 )),
             })
             .collect::<Result<_>>()?;
-        Ok(XmlOptions { params })
+        Ok(FormatOptions { params })
     }
 }
 
@@ -91,7 +89,7 @@ impl ParamArgs {
 /// spent reading and checking the scene file.
 pub fn load_scene(
     name: Option<&str>,
-    xml: &XmlOptions,
+    xml: &FormatOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
 ) -> Result<(Scene, Duration)> {
     load_scene_with(name, xml, adjust, SceneOptions::default(), None)
@@ -102,7 +100,7 @@ pub fn load_scene(
 /// available.
 pub fn load_scene_with(
     name: Option<&str>,
-    xml: &XmlOptions,
+    xml: &FormatOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
     options: SceneOptions,
     camera: Option<usize>,
@@ -137,7 +135,7 @@ pub fn load_scene_with(
 /// and the folder its files are relative to: for animations, which build one scene per frame.
 pub fn load_description_only(
     name: Option<&str>,
-    xml: &XmlOptions,
+    xml: &FormatOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
 ) -> Result<(Description, PathBuf)> {
     let (mut description, base_dir, is_model) = read_scene_or_model(name, xml)?;
@@ -195,11 +193,11 @@ fn check(d: &Description) -> Result<()> {
 /// or a built-in scene by name. `xml` holds the parameters of a Mitsuba scene, and only of one.
 fn read_scene_or_model(
     scene: Option<&str>,
-    xml: &XmlOptions,
+    xml: &FormatOptions,
 ) -> Result<(Description, PathBuf, bool)> {
     let name = scene.unwrap_or("whitted");
     let path = Path::new(name);
-    if !xml.params.is_empty() && !is_xml(path) {
+    if !xml.params.is_empty() && !appel::format::find(path).is_some_and(|f| f.takes_params()) {
         bail!("-D sets parameters of a Mitsuba 3 XML scene (.xml); `{name}` is not one");
     }
     if is_mesh_file(path) {
@@ -241,11 +239,7 @@ fn read_scene_or_model(
                 .join(", ")
         );
     }
-    let loaded = if is_xml(path) {
-        load_xml_description(path, xml)?
-    } else {
-        load_description(path)?
-    };
+    let loaded = appel::format::load(path, xml)?;
     for w in &loaded.warnings {
         eprintln!("warning: {w}");
     }

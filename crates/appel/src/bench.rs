@@ -11,10 +11,10 @@ pub use pairing::{bench_pairings, embree_robust_for, Pairing};
 pub use path_rays::path_rays;
 
 use crate::accel::{Accel, AccelKind, AccelOptions, TraversalStats};
+use crate::description::CameraDesc;
 use crate::geometry::procedural::{append, icosphere, scattered_triangles, stadium, SplitMix64};
 use crate::geometry::TriangleMesh;
 use crate::math::{offset_ray_origin, orthonormal_basis, Aabb, Ray, Vec3};
-use crate::scene::description::CameraDesc;
 use crate::scene::{Camera, Geometry};
 use rayon::prelude::*;
 use std::time::Instant;

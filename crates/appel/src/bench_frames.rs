@@ -188,9 +188,9 @@ pub fn bench_samples(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::description::description_from_str;
+    use crate::description::parse::Syntax;
     use crate::scene::builtin::builtin_scene;
-    use crate::scene::description_from_str;
-    use crate::scene::parse::Syntax;
     use std::path::Path;
 
     fn whitted(w: u32, h: u32) -> Scene {

@@ -5,11 +5,12 @@
 use appel::accel::{
     Accel, AccelKind, BspOptions, BvhOptions, BvhSplit, GridOptions, OctreeOptions,
 };
+use appel::description::description_from_str;
+use appel::description::parse::Syntax;
+use appel::description::Description;
 use appel::render::{render, Film, RenderOptions};
 use appel::scene::builtin::builtin_scene;
-use appel::scene::description::Description;
-use appel::scene::parse::Syntax;
-use appel::scene::{description_from_str, Scene};
+use appel::scene::Scene;
 use std::path::Path;
 
 fn builtin(name: &str, width: u32, height: u32) -> Description {

@@ -3,10 +3,11 @@
 //! `appel gen cloth`, under a rebuilt top level over keyframed instances), for a refitted top
 //! level (the flag as a `[[shape]]`), and for structures that are rebuilt every frame.
 
+use appel::description::animation::at_frame;
+use appel::description::Description;
 use appel::gen::{cloth_scene, GenOptions};
 use appel::render::{render, Film, RenderOptions};
-use appel::scene::animation::at_frame;
-use appel::scene::{load_description, Description, Scene, Sequence};
+use appel::scene::{Scene, Sequence};
 use std::path::Path;
 
 fn image(scene: &Scene) -> Film {
@@ -36,7 +37,9 @@ fn cloth(dir: &Path, edit: impl Fn(String) -> String) -> Description {
     let path = dir.join("cloth.toml");
     let text = edit(std::fs::read_to_string(&path).unwrap());
     std::fs::write(&path, text).unwrap();
-    let mut d = load_description(&path).unwrap().description;
+    let mut d = appel::format::load(&path, &Default::default())
+        .unwrap()
+        .description;
     d.camera.width = 96;
     d.camera.height = 72;
     d

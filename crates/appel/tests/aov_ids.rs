@@ -1,9 +1,10 @@
 //! `shapeid` is the `[[shape]]`'s index in the scene file and `primid` the triangle's index in the mesh
 //! file, even when a mesh file with several materials becomes several surfaces inside Appel.
 
+use appel::description::description_from_str;
+use appel::description::parse::Syntax;
 use appel::render::{render, RenderOptions, MISS_ID};
-use appel::scene::parse::Syntax;
-use appel::scene::{description_from_str, Scene};
+use appel::scene::Scene;
 
 #[test]
 fn multi_material_obj_reports_scene_shape_and_file_triangle() {

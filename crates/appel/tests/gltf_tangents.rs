@@ -7,7 +7,7 @@
 //! normal tilts to (cosine 0.97) and dim otherwise (0.35 from the side across, 0 from behind).
 
 use appel::render::{render, RenderOptions};
-use appel::scene::{load_description, Scene};
+use appel::scene::Scene;
 use glam::Vec3;
 use std::path::Path;
 
@@ -133,7 +133,7 @@ fn brightness(
     );
     let path = dir.path().join("scene.toml");
     std::fs::write(&path, scene).unwrap();
-    let loaded = load_description(&path).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = appel::format::load(&path, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     let scene = Scene::new(&loaded.description, &loaded.base_dir).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         scene.geometry.instances.len(),

@@ -101,8 +101,8 @@ fn implicit_scene_renders_the_same_at_any_scale() {
 
 #[test]
 fn bad_formula_is_reported_at_its_line_with_the_formula_column() {
-    use appel::scene::description_from_str;
-    use appel::scene::parse::Syntax;
+    use appel::description::description_from_str;
+    use appel::description::parse::Syntax;
     let text = r#"
 [camera]
 eye = [0.0, 0.0, 5.0]

@@ -2,10 +2,11 @@
 //! must be the analytic ellipsoid it describes.
 
 use appel::accel::TraversalStats;
+use appel::description::description_from_str;
+use appel::description::parse::Syntax;
 use appel::geometry::procedural::SplitMix64;
 use appel::math::{Ray, Vec3};
-use appel::scene::parse::Syntax;
-use appel::scene::{description_from_str, Scene};
+use appel::scene::Scene;
 use std::path::Path;
 
 fn scene(transform: &str) -> Scene {

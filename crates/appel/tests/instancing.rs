@@ -4,12 +4,13 @@
 
 mod common;
 use appel::accel::TraversalStats;
+use appel::description::parse::Syntax;
+use appel::description::{description_from_str, Description};
 use appel::geometry::procedural::{append, cube, icosphere, SplitMix64};
 use appel::geometry::TriangleMesh;
 use appel::math::{Ray, Vec3};
 use appel::render::MISS_ID;
-use appel::scene::parse::Syntax;
-use appel::scene::{description_from_str, Description, Scene, NO_INSTANCE};
+use appel::scene::{Scene, NO_INSTANCE};
 use common::*;
 use std::path::Path;
 
@@ -439,7 +440,7 @@ fn bad_instance_entries_are_located() {
     let err = |body: &str| {
         let path = dir.path().join("s.toml");
         std::fs::write(&path, format!("{head}{body}")).unwrap();
-        match appel::scene::load_description(&path)
+        match appel::format::load(&path, &Default::default())
             .and_then(|l| Scene::new(&l.description, &l.base_dir))
         {
             Ok(_) => panic!("accepted: {body}"),

@@ -79,9 +79,9 @@ fn depth_normal_and_ids_follow_the_camera_convention() {
         center = [0.0, 0.0, 0.0]
         radius = 1.5
     "#;
-    let d = appel::scene::description_from_str(
+    let d = appel::description::description_from_str(
         text,
-        appel::scene::parse::Syntax::Toml,
+        appel::description::parse::Syntax::Toml,
         std::path::Path::new("t.toml"),
     )
     .unwrap();

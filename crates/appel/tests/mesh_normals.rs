@@ -9,7 +9,7 @@
 use appel::accel::TraversalStats;
 use appel::geometry::TriangleMesh;
 use appel::math::Vec3;
-use appel::scene::{load_description, Scene};
+use appel::scene::Scene;
 use std::path::{Path, PathBuf};
 
 const CENTRE: Vec3 = Vec3::new(1.0, 0.0, 0.0);
@@ -76,7 +76,7 @@ fn scene_with(scene_file: &str, text: &str) -> (tempfile::TempDir, PathBuf) {
 }
 
 fn load(path: &Path) -> Scene {
-    let loaded = load_description(path).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = appel::format::load(path, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     Scene::new(&loaded.description, &loaded.base_dir).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -199,7 +199,7 @@ fn appel_mesh_shapes_are_faceted_unless_smooth_normals_asks() {
             "{TOML_HEAD}[[shape]]\ntype = \"mesh\"\nfile = \"sphere.ply\"\nsmooth_normals = true\nface_normals = true\n"
         ),
     );
-    let Err(e) = load_description(&path) else {
+    let Err(e) = appel::format::load(&path, &Default::default()) else {
         panic!("smooth_normals with face_normals accepted");
     };
     let e = e.to_string();

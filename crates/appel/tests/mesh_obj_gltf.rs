@@ -1,8 +1,9 @@
 //! OBJ and glTF readers on small inline files and on the shared models.
 
+use appel::description::loaded_mesh::LoadedMesh;
 use appel::io::gltf::parse_gltf_with;
+use appel::io::load_mesh;
 use appel::io::obj::{parse_obj, triangulate, MtlSource, NoMtl};
-use appel::io::{load_mesh, LoadedMesh};
 use appel::math::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
 
@@ -344,9 +345,9 @@ fn gltf_nodes_sharing_a_mesh_become_placements_of_one_copy() {
     let scene_text = "[camera]\neye = [0.5, 0.3, 20.0]\nlook_at = [0.5, 0.3, 0.0]\n\
         [[shape]]\ntype = \"sphere\"\ncenter = [0.0, 50.0, 0.0]\nradius = 1.0\n\
         [[shape]]\ntype = \"mesh\"\nfile = \"t.gltf\"\n";
-    let d = appel::scene::description_from_str(
+    let d = appel::description::description_from_str(
         scene_text,
-        appel::scene::parse::Syntax::Toml,
+        appel::description::parse::Syntax::Toml,
         Path::new("s.toml"),
     )
     .unwrap();

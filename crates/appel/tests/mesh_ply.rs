@@ -1,8 +1,9 @@
 //! PLY reader: the three encodings agree, gzip works, and every kind of bad file gets an error that
 //! says where and why.
 
+use appel::description::loaded_mesh::LoadedMesh;
+use appel::io::load_mesh;
 use appel::io::ply::parse_ply;
-use appel::io::{load_mesh, LoadedMesh};
 use appel::math::Vec3;
 use std::io::Write;
 use std::path::Path;

@@ -3,7 +3,7 @@
 use appel::math::Vec3;
 use appel::output::write_ply;
 use appel::render::{render, RenderOptions, MISS_ID};
-use appel::scene::{frame_model, load_description, model_description, Scene};
+use appel::scene::{frame_model, model_description, Scene};
 use std::path::{Path, PathBuf};
 
 fn write_scene(dir: &Path, shapes: &str) -> PathBuf {
@@ -34,7 +34,7 @@ fn transform_applies_scale_then_rotate_then_translate() {
         dir.path(),
         "[[shape]]\ntype = \"mesh\"\nfile = \"meshes/tri.ply\"\nmaterial = \"red\"\ntransform = { translate = [1.0, 0.0, 0.0], rotate = { axis = [0.0, 0.0, 1.0], degrees = 90.0 }, scale = [2.0, 3.0, 1.0] }\n",
     );
-    let loaded = load_description(&p).unwrap();
+    let loaded = appel::format::load(&p, &Default::default()).unwrap();
     let scene = Scene::new(&loaded.description, &loaded.base_dir).unwrap();
     let v = scene.geometry.meshes[0].vertices(0);
     // (1,0,0) -> scale (2,0,0) -> rotate (0,2,0) -> translate (1,2,0); (0,1,0) -> (0,3,0) -> (-3,0,0) -> (-2,0,0).
@@ -53,7 +53,7 @@ fn scaled_scene_scales_mesh_transforms() {
         dir.path(),
         "[[shape]]\ntype = \"mesh\"\nfile = \"meshes/tri.ply\"\ntransform = { translate = [1.0, 0.0, 0.0], scale = 2.0 }\n",
     );
-    let loaded = load_description(&p).unwrap();
+    let loaded = appel::format::load(&p, &Default::default()).unwrap();
     let scaled = loaded.description.scaled(10.0);
     let scene = Scene::new(&scaled, &loaded.base_dir).unwrap();
     assert_eq!(
@@ -69,7 +69,9 @@ fn missing_mesh_file_is_reported_at_its_line() {
         dir.path(),
         "[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\n\n[[shape]]\ntype = \"mesh\"\nfile = \"nope.ply\"\n",
     );
-    let e = load_description(&p).unwrap_err().to_string();
+    let e = appel::format::load(&p, &Default::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("scene.toml:17:8:"), "{e}");
     assert!(
         e.contains("shape[1].file: the mesh file") && e.contains("nope.ply` does not exist"),
@@ -91,7 +93,9 @@ fn mesh_keys_are_checked_per_type() {
     ];
     for (shapes, want) in cases {
         let p = write_scene(dir.path(), shapes);
-        let e = load_description(&p).unwrap_err().to_string();
+        let e = appel::format::load(&p, &Default::default())
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains(want) && e.contains("scene.toml:"),
             "{e}\n  wanted: {want}"
@@ -107,7 +111,7 @@ fn bad_mesh_file_error_names_the_mesh_file() {
         dir.path(),
         "[[shape]]\ntype = \"mesh\"\nfile = \"bad.obj\"\n",
     );
-    let loaded = load_description(&p).unwrap();
+    let loaded = appel::format::load(&p, &Default::default()).unwrap();
     let e = Scene::new(&loaded.description, &loaded.base_dir)
         .unwrap_err()
         .to_string();

@@ -3,7 +3,7 @@
 
 mod reference;
 
-use appel::scene::description::FilterDesc;
+use appel::description::FilterDesc;
 use reference::{
     compare, compare_within, reference, render_xml, render_xml_with, render_xml_with_params,
     save_side_by_side, shared, tent_blur_allowance, Setup,
@@ -280,7 +280,7 @@ fn cornell_box_against_tungsten() {
 /// samples per pixel do not resolve reliably: it is checked by the unit tests.)
 #[test]
 fn a_missing_perturbation_is_rejected() {
-    use appel::scene::description::MaterialDesc;
+    use appel::description::MaterialDesc;
     for (name, change) in [("bumpmap", "no map"), ("normalmap", "no map")] {
         let (Some(scene), Some(ref_path)) = (
             shared(&format!("{SPHERES}/test_{name}_path.xml")),
@@ -293,7 +293,7 @@ fn a_missing_perturbation_is_rejected() {
                 match (m, change) {
                     (MaterialDesc::BumpMap(b), _) => b.scale = 0.0,
                     (MaterialDesc::NormalMap(n), _) => {
-                        n.normalmap = appel::scene::description::TextureDesc::Rgb([0.5, 0.5, 1.0])
+                        n.normalmap = appel::description::TextureDesc::Rgb([0.5, 0.5, 1.0])
                     }
                     _ => {}
                 }

@@ -2,9 +2,10 @@
 //! and a closed room of emitting, reflecting walls), and its determinism across thread counts
 //! and samplers.
 
+use appel::description::Description;
+use appel::description::{description_from_str, parse::Syntax};
 use appel::render::{render, Film, RenderOptions};
-use appel::scene::description::Description;
-use appel::scene::{description_from_str, parse::Syntax, Scene};
+use appel::scene::Scene;
 use std::path::Path;
 
 fn scene(toml: &str) -> Scene {

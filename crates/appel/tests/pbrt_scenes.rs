@@ -5,8 +5,8 @@
 #[allow(dead_code)] // the shared helpers include the XML readers this file does not use
 mod reference;
 
-use appel::scene::description::{DistributionDesc, FilterDesc, MaterialDesc, TextureDesc};
-use appel::scene::{load_description, Description};
+use appel::description::Description;
+use appel::description::{DistributionDesc, FilterDesc, MaterialDesc, TextureDesc};
 use reference::{
     compare_within, reference, render_loaded, save_side_by_side, shared, tent_blur_allowance,
     Comparison, Setup,
@@ -28,7 +28,7 @@ fn compare_with_reference(
     let (Some(scene), Some(ref_path)) = (shared(scene), shared(reference_exr)) else {
         return None;
     };
-    let loaded = load_description(&scene).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = appel::format::load(&scene, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     let film = render_loaded(loaded, &Setup { spp, block: 1 }, |d| {
         (d.camera.width, d.camera.height) = (w, h);
@@ -195,14 +195,18 @@ fn a_missing_geometry_file_is_named() {
     let Some(scene) = shared("pbrt-v4-killeroos/killeroos/killeroo-simple.pbrt") else {
         return;
     };
-    let e = load_description(&scene).unwrap_err().to_string();
+    let e = appel::format::load(&scene, &Default::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("geometry/killeroo.pbrt"), "{e}");
     assert!(e.contains("killeroo-simple.pbrt:55:"), "{e}");
     let Some(gold) = shared("pbrt-v4-killeroos/killeroos/killeroo-coated-gold.pbrt") else {
         return;
     };
     // This one fails earlier, at its texture, which is missing too.
-    let e = load_description(&gold).unwrap_err().to_string();
+    let e = appel::format::load(&gold, &Default::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("textures/lines.png"), "{e}");
     assert!(e.contains("killeroo-coated-gold.pbrt:42:"), "{e}");
 }
@@ -213,7 +217,7 @@ fn a_missing_geometry_file_is_named() {
 #[test]
 fn coated_materials_render() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/coated.pbrt");
-    let loaded = load_description(&scene).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = appel::format::load(&scene, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     let m = &loaded.description.materials;
     let diffuse = m

@@ -35,7 +35,7 @@ fn render_model_with(
     w: u32,
     h: u32,
     spp: u32,
-    edit: impl Fn(&mut appel::scene::Description),
+    edit: impl Fn(&mut appel::description::Description),
 ) -> (Scene, Film) {
     let file = path.file_name().unwrap().to_str().unwrap();
     let mut base = model_description(file);
@@ -151,7 +151,7 @@ fn damaged_helmet_colours_follow_its_base_colour_texture() {
             "clay".into(),
             toml::from_str("type = \"diffuse\"\nreflectance = 0.8").unwrap(),
         );
-        if let appel::scene::description::ShapeDesc::Mesh(m) = &mut d.shapes[0] {
+        if let appel::description::ShapeDesc::Mesh(m) = &mut d.shapes[0] {
             m.material = Some("clay".into());
         }
     });
@@ -195,7 +195,7 @@ fn render_model_lit(path: &Path, w: u32, h: u32, spp: u32) -> Film {
     let mut scene = Scene::new(&base, path.parent().unwrap()).unwrap_or_else(|e| panic!("{e}"));
     let mut view = view_model(&scene, &base, None).unwrap();
     view.lights
-        .push(appel::scene::description::LightDesc::Directional {
+        .push(appel::description::LightDesc::Directional {
             direction: [0.4, -0.6, -0.7],
             color: [1.0; 3],
             intensity: 3.0,
@@ -604,7 +604,7 @@ fn gltf_lights_and_cameras_follow_their_nodes() {
         Err("no".into())
     })
     .unwrap_or_else(|e| panic!("{e}"));
-    use appel::scene::description::LightDesc;
+    use appel::description::LightDesc;
     match &m.lights[0] {
         LightDesc::Spot {
             position,

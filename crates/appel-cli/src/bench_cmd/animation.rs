@@ -6,8 +6,8 @@
 use super::{parse_accels, BenchArgs};
 use crate::scene_args::load_description_only;
 use anyhow::{bail, Context, Result};
+use appel::description::animation::{at_frame, frame_count};
 use appel::render::{render, RenderOptions};
-use appel::scene::animation::{at_frame, frame_count};
 use appel::scene::{Scene, Sequence};
 
 /// One frame's figures.
@@ -38,7 +38,7 @@ pub fn run(target: &str, frames: usize, args: &BenchArgs) -> Result<()> {
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .context("cannot start the worker threads")?;
-    let xml = args.params.xml_options()?;
+    let xml = args.params.format_options()?;
     let accels: Vec<Option<&str>> = match &args.accel {
         Some(list) => parse_accels(list)?
             .into_iter()

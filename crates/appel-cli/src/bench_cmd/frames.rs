@@ -5,7 +5,7 @@ use super::{parse_accels, BenchArgs};
 use crate::scene_args::load_scene;
 use anyhow::{bail, Context, Result};
 use appel::bench_frames::{bench_frames, bench_samples, SampleBench};
-use appel::scene::Description;
+use appel::description::Description;
 
 /// Real-time frames unless --frames says otherwise.
 const FRAMES: usize = 100;
@@ -27,7 +27,7 @@ pub fn run(scene_name: &str, args: &BenchArgs) -> Result<()> {
             .collect(),
         None => vec![None],
     };
-    let xml = args.params.xml_options()?;
+    let xml = args.params.format_options()?;
     for accel in accels {
         let (scene, _) = pool.install(|| {
             load_scene(Some(scene_name), &xml, |d| {

@@ -19,7 +19,8 @@ mod stage;
 
 use crate::scene_args::{load_scene, ParamArgs, ViewArgs as CameraArgs};
 use anyhow::{bail, Result};
-use appel::scene::{Description, Scene};
+use appel::description::Description;
+use appel::scene::Scene;
 use std::net::{IpAddr, Ipv4Addr};
 
 #[derive(clap::Args)]
@@ -114,7 +115,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
 /// Reads and builds the scene once (so errors show before the server starts), keeping the
 /// description the sessions rebuild from when the structure changes.
 fn load_shared(args: &ViewArgs) -> Result<Shared> {
-    let xml = args.params.xml_options()?;
+    let xml = args.params.format_options()?;
     let kept = std::sync::Mutex::new(None::<Description>);
     let (scene, _) = load_scene(args.scene.as_deref(), &xml, |d| {
         if let Some(x) = &args.accel {

@@ -1,7 +1,7 @@
 //! The one list of acceleration structures. Everything that enumerates structures is generated from
 //! it: the modules, [`super::AccelKind`] and its names, [`super::AccelOptions`], the [`super::Accel`]
 //! enum and its per-ray matches, and the scene file's `[render.NAME]` tables
-//! (`scene::description::RenderDesc`) with their validation.
+//! (`description::RenderDesc`) with their validation.
 
 /// Calls macro `$then!` with every structure as `Variant(module::Type)`: `accel/module` holds the
 /// structure, `Type` implements [`super::Structure`], and `module` is its name (`render.accel =

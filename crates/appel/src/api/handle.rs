@@ -2,7 +2,7 @@
 
 use super::multi_hit::MultiHit;
 use super::surface::Surface;
-use crate::scene::description::CameraDesc;
+use crate::description::CameraDesc;
 use crate::scene::Scene;
 use std::sync::{OnceLock, RwLock};
 

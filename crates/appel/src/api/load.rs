@@ -1,15 +1,13 @@
 //! Scenes from files, built-in names and JSON text, with camera and render keys overridden.
 
 use super::SceneHandle;
+use crate::description::parse::Syntax;
+use crate::description::{description_from_str, validate, Description};
 use crate::error::{Error, Location, Result};
+use crate::format::FormatOptions;
 use crate::io::is_mesh_file;
-use crate::io::mitsuba::XmlOptions;
 use crate::scene::builtin::{builtin_scene, BUILTIN_SCENES};
-use crate::scene::parse::Syntax;
-use crate::scene::{
-    description_from_str, frame_model, is_xml, load_description, load_xml_description,
-    model_description, validate, Description, Scene,
-};
+use crate::scene::{frame_model, model_description, Scene};
 use std::path::{Path, PathBuf};
 
 /// One overridden key: a `[camera]` or `[render]` key of the scene schema (or `size`, `[width,
@@ -118,11 +116,7 @@ impl SceneHandle {
                 std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
             ));
         }
-        let loaded = if is_xml(path) {
-            load_xml_description(path, &XmlOptions::default())?
-        } else {
-            load_description(path)?
-        };
+        let loaded = crate::format::load(path, &FormatOptions::default())?;
         Self::build(loaded.description, &loaded.base_dir, overrides)
     }
 

@@ -12,31 +12,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-/// A mesh file named inside a zip archive.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ArchivePath {
-    pub archive: PathBuf,
-    /// The entry, if one was named after `:`.
-    pub inner: Option<String>,
-}
-
-/// `x.zip` or `x.zip:inner/path` (the extension in any case), else `None`.
-pub fn archive_path(path: &Path) -> Option<ArchivePath> {
-    let s = path.to_str()?;
-    let lower = s.to_ascii_lowercase();
-    if lower.ends_with(".zip") {
-        return Some(ArchivePath {
-            archive: PathBuf::from(s),
-            inner: None,
-        });
-    }
-    let at = lower.find(".zip:")?;
-    let inner = &s[at + 5..];
-    Some(ArchivePath {
-        archive: PathBuf::from(&s[..at + 4]),
-        inner: (!inner.is_empty()).then(|| inner.to_string()),
-    })
-}
+pub use crate::description::archive_path::{archive_path, ArchivePath};
 
 /// The files a mesh refers to.
 pub enum Assets {

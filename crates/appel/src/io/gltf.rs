@@ -16,16 +16,16 @@
 //! before it is read.
 
 use super::assets::Assets;
-use super::mesh_file::{
+use super::mikktspace_tangents::mikktspace_tangents;
+use crate::description::loaded_mesh::{
     AlphaMode, FileCamera, FileImage, FileMaterial, FileTexture, LoadedMesh, MeshPart, PbrParams,
     SharedPlacement,
 };
-use super::mikktspace_tangents::mikktspace_tangents;
+use crate::description::texture_lookup::{Filter, Wrap};
+use crate::description::{CameraDesc, CameraKind, LightDesc};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};
-use crate::scene::description::{CameraDesc, CameraKind, LightDesc};
-use crate::shading::texture::{Filter, Wrap};
 use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Gltf, Node};
@@ -205,7 +205,9 @@ fn parse(
         ctx.node(&node, Mat4::IDENTITY, 0)?;
     }
     out.warnings
-        .extend(super::mesh_file::unreadable_images(&out.images));
+        .extend(crate::description::loaded_mesh::unreadable_images(
+            &out.images,
+        ));
     Ok(out)
 }
 

@@ -1,4 +1,5 @@
-//! Input readers: triangle meshes (PLY, OBJ, glTF, Mitsuba's serialized), placement and point lists. Writers are in
+//! Leaf input readers: triangle meshes (PLY, OBJ, glTF, Mitsuba's serialized), images, archives, grid
+//! volumes, placement and point lists. Scene files are read by `format`; writers are in
 //! `output`.
 
 pub mod assets;
@@ -7,9 +8,7 @@ pub mod gltf;
 pub mod grid_volume;
 pub mod mesh_file;
 pub mod mikktspace_tangents;
-pub mod mitsuba;
 pub mod obj;
-pub mod pbrt;
 pub mod placements;
 pub mod ply;
 pub mod points;
@@ -17,7 +16,4 @@ pub mod serialized;
 pub mod text;
 pub mod vertex_normals;
 
-pub use mesh_file::{
-    is_mesh_file, load_mesh, mesh_source_exists, AlphaMode, FileCamera, FileImage, FileMaterial,
-    FileTexture, LoadedMesh, MeshPart, PbrParams, SharedPlacement,
-};
+pub use mesh_file::{is_mesh_file, load_mesh, mesh_source_exists};

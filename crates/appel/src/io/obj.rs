@@ -13,11 +13,13 @@
 //! default), since OBJ files are often shared without their MTL.
 
 use super::assets::Assets;
-use super::mesh_file::{AlphaMode, FileImage, FileMaterial, FileTexture, LoadedMesh, MeshPart};
+use crate::description::loaded_mesh::{
+    AlphaMode, FileImage, FileMaterial, FileTexture, LoadedMesh, MeshPart,
+};
+use crate::description::texture_lookup::{Filter, Wrap};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};
-use crate::shading::texture::{Filter, Wrap};
 use glam::Mat3;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -310,7 +312,7 @@ pub fn parse_obj(data: &[u8], path: &Path, mtl: &dyn MtlSource) -> Result<Loaded
             }
         })
         .collect();
-    let warnings = super::mesh_file::unreadable_images(&images);
+    let warnings = crate::description::loaded_mesh::unreadable_images(&images);
     Ok(LoadedMesh {
         parts,
         materials,

@@ -11,7 +11,7 @@
 //! `uchar`-counted `int` list, little-endian) take a fast path that reads fixed-stride records
 //! straight from the memory-mapped file; everything else goes through the general reader.
 
-use super::mesh_file::{first_non_finite, LoadedMesh, MeshPart};
+use crate::description::loaded_mesh::{first_non_finite, LoadedMesh, MeshPart};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};

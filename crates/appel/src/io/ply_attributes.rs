@@ -9,7 +9,7 @@
 //! Read in a second pass over the data, after the main reader has checked its layout.
 
 use super::*;
-use crate::io::mesh_file::MeshAttribute;
+use crate::description::loaded_mesh::MeshAttribute;
 
 /// The names the main reader takes from the vertex element.
 const VERTEX_RESERVED: [&str; 14] = [

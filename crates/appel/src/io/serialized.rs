@@ -8,7 +8,7 @@
 //! face-normals flag is not read: the shape's `face_normals` parameter alone asks for the
 //! triangles' own normals (Mitsuba 0.6 honoured the flag; Mitsuba 3 does not).
 
-use super::mesh_file::{first_non_finite, LoadedMesh, MeshPart};
+use crate::description::loaded_mesh::{first_non_finite, LoadedMesh, MeshPart};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};

@@ -71,9 +71,9 @@ impl CostImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::description::description_from_str;
+    use crate::description::parse::Syntax;
     use crate::scene::builtin::builtin_scene;
-    use crate::scene::description_from_str;
-    use crate::scene::parse::Syntax;
     use std::path::Path;
 
     fn scene(accel: &str) -> Scene {

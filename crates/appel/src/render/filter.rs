@@ -2,7 +2,7 @@
 //! `p` adds to every pixel whose centre `c` has `|p - c| < radius` on both axes, with the weight
 //! `eval(p.x - c.x) * eval(p.y - c.y)` (a separable filter, splatted as Mitsuba's image blocks do).
 
-use crate::scene::description::FilterDesc;
+use crate::description::FilterDesc;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Filter {

@@ -21,8 +21,8 @@ pub use whitted::{local_shading, Raycast, Whitted};
 pub use window::Window;
 
 use crate::accel::TraversalStats;
+use crate::description::SamplerName;
 use crate::error::Result;
-use crate::scene::description::SamplerName;
 use crate::scene::{IntegratorKind, Scene};
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;

@@ -309,11 +309,11 @@ fn copy_tile_rows<T: Copy>(out: &mut [T], window: Window, t: &Tile, tile_values:
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::description::description_from_str;
+    use crate::description::parse::Syntax;
     use crate::render::sampler::{IndependentSampler, PixelPatternSampler};
     use crate::render::Whitted;
     use crate::scene::builtin::builtin_scene;
-    use crate::scene::description_from_str;
-    use crate::scene::parse::Syntax;
     use std::path::Path;
     use std::time::Duration;
 

@@ -111,7 +111,7 @@ pub fn disk() -> TriangleMesh {
 }
 
 /// A `trianglemesh` shape's mesh, placed by its transform.
-pub fn inline_mesh(t: &crate::scene::description::TriangleMeshDesc) -> TriangleMesh {
+pub fn inline_mesh(t: &crate::description::TriangleMeshDesc) -> TriangleMesh {
     let mesh = TriangleMesh {
         positions: t.positions.iter().map(|&p| p.into()).collect(),
         indices: t.indices.clone(),

@@ -1,4 +1,4 @@
-use super::description::{CameraDesc, CameraKind, FovAxis};
+use crate::description::{CameraDesc, CameraKind, FovAxis};
 use crate::math::{Ray, Vec3};
 
 /// A pinhole or orthographic camera with Appel's exact pixel convention (README, "Camera"): for

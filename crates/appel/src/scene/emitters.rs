@@ -1,9 +1,9 @@
 //! The scene's emitters for the Monte Carlo integrators: `[[light]]` entries and the surfaces with
 //! an `emitter`, the power-based choice among them, and which surface emits as which emitter.
 
-use super::description::{Description, FovAxis, LightDesc};
 use super::geometry::{Geometry, ShapeKind};
 use super::textures::TextureCache;
+use crate::description::{Description, FovAxis, LightDesc};
 use crate::error::{Error, Location, Result};
 use crate::shading::emitter::{
     AreaEmitter, ConstantEnvironment, DirectionalLight, Emitter, EnvMap, LightPicker, PointLight,

@@ -11,11 +11,11 @@
 //! multiplies a texture, and the channel a parameter reads (glTF packs roughness in G and metalness
 //! in B), are baked into a derived image at load, so that lookups stay plain bitmap lookups.
 
-use super::description::WhittedDesc;
 use super::Material as WhittedMaterial;
+use crate::description::loaded_mesh::{AlphaMode, FileMaterial, FileTexture, LoadedMesh};
+use crate::description::WhittedDesc;
 use crate::error::Result;
 use crate::io::bitmap_read::{decode_bitmap, Bitmap};
-use crate::io::{AlphaMode, FileMaterial, FileTexture, LoadedMesh};
 use crate::shading::bsdf::principled::specular_to_eta;
 use crate::shading::material::{Material, PrincipledTextures};
 use crate::shading::texture::{luminance, BitmapTexture, Texture};

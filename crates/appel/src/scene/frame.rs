@@ -1,7 +1,7 @@
 //! A scene for a bare mesh file (`appel render model.ply`): the camera, lights and background that
 //! show the model whole.
 
-use super::description::{CameraDesc, Description, LightDesc, MeshShapeDesc, ShapeDesc};
+use crate::description::{CameraDesc, Description, LightDesc, MeshShapeDesc, ShapeDesc};
 use crate::math::{Aabb, Vec3};
 
 /// The direction from the model's centre to the camera: a diagonal from the front right, above.
@@ -146,7 +146,7 @@ pub fn view_model(
     }
     // A view that does not validate comes from the file (a camera or light whose values make no
     // sense, bounds too large to frame): say so at the file rather than as a bad setting.
-    crate::scene::validate::validate(&framed).map_err(|invalid| {
+    crate::description::validate::validate(&framed).map_err(|invalid| {
         let file = base
             .shapes
             .iter()

@@ -2,11 +2,11 @@
 
 use super::instance::{Instance, Prototype};
 use crate::accel::{closest_of, test_primitive, Hit, Primitives, TraversalStats};
+use crate::description::loaded_mesh::MeshAttribute;
 use crate::geometry::{
     triangle_box_overlap, Cylinder, FileTangent, Implicit, ObjectTransform, Plane, PrimHit,
     SdfGrid, Sphere, SphereBlock, SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
 };
-use crate::io::mesh_file::MeshAttribute;
 use crate::math::{Aabb, Ray, RayF64, Vec3};
 use crate::shading::texture::AttributePoint;
 

@@ -1,10 +1,10 @@
 //! From `[meshes.NAME]` and `[[instance]]` entries to prototypes and instances.
 
-use super::description::Description;
 use super::instance::{Instance, Prototype};
 use super::mesh_shape::{add_mesh_file, FileExtras};
 use super::progress::Steps;
 use super::{Geometry, Material, RenderSettings};
+use crate::description::Description;
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
 use crate::io::placements::read_placements;

@@ -1,4 +1,4 @@
-use super::description::LightDesc;
+use crate::description::LightDesc;
 use crate::math::Vec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]

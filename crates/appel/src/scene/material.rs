@@ -1,4 +1,4 @@
-use super::description::{MaterialDesc, WhittedDesc};
+use crate::description::{MaterialDesc, WhittedDesc};
 use crate::math::{Vec2, Vec3};
 use std::collections::BTreeMap;
 
@@ -121,7 +121,7 @@ mod tests {
     fn checker_alternates_between_neighbouring_squares() {
         let d = WhittedDesc {
             color: [1.0, 0.0, 0.0],
-            checker: Some(super::super::description::CheckerDesc {
+            checker: Some(crate::description::CheckerDesc {
                 color: [1.0, 1.0, 0.0],
                 size: 2.0,
             }),

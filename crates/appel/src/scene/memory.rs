@@ -2,7 +2,7 @@
 //! before anything large is loaded, so that a scene too large for the machine fails at once with
 //! a clear message instead of being killed by the kernel half-way through a long build.
 
-use super::description::{Description, ShapeDesc};
+use crate::description::{Description, ShapeDesc};
 use crate::error::Result;
 use crate::io::mesh_file::MeshFormat;
 use crate::io::ply::read_ply_counts;
@@ -88,8 +88,8 @@ fn placement_count(path: &Path) -> Result<u64> {
 pub fn estimate_memory(d: &Description, base_dir: &Path) -> Result<MemoryEstimate> {
     // An animation holds one frame at a time: its first stands for all.
     let first_frame;
-    let d = if super::animation::is_animated(d) {
-        first_frame = super::animation::at_frame(d, 0);
+    let d = if crate::description::animation::is_animated(d) {
+        first_frame = crate::description::animation::at_frame(d, 0);
         &first_frame
     } else {
         d

@@ -1,14 +1,15 @@
 //! `type = "mesh"` shapes: a mesh file, placed by its transform, with its own materials unless the
 //! shape names one.
 
-use super::description::{LightDesc, TransformDesc, WhittedDesc};
 use super::file_materials::{self, is_physically_based, Images};
 use super::{Geometry, Instance, Material, Prototype};
 use crate::accel::{AccelKind, AccelOptions};
+use crate::description::loaded_mesh::{FileCamera, FileMaterial};
+use crate::description::{LightDesc, TransformDesc, WhittedDesc};
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
+use crate::io::load_mesh;
 use crate::io::vertex_normals::angle_weighted;
-use crate::io::{load_mesh, FileCamera, FileMaterial};
 use crate::shading::texture::Texture;
 use std::path::Path;
 

@@ -1,11 +1,9 @@
 //! From a scene description to a scene ready to render: geometry, acceleration structure, materials,
 //! lights and camera.
 
-pub mod animation;
 mod basic_meshes;
 pub mod builtin;
 mod camera;
-pub mod description;
 mod emitters;
 mod file_materials;
 mod frame;
@@ -16,18 +14,15 @@ mod light;
 mod material;
 mod memory;
 mod mesh_shape;
-pub mod origins;
-pub mod parse;
 mod progress;
 mod queries;
 mod sequence;
 mod shading_materials;
 mod textures;
-pub mod validate;
 
+use crate::description::animation;
+use crate::description::{self, Description, ShapeDesc};
 pub use camera::Camera;
-pub use description::Description;
-use description::ShapeDesc;
 pub use emitters::{SceneEmitters, NO_EMITTER};
 pub use frame::{frame_model, model_description, view_model};
 pub use geometry::{
@@ -48,12 +43,11 @@ use crate::geometry::{
     TriangleTest,
 };
 use crate::math::{Vec2, Vec3};
-use parse::{parse_description, toml_span, PathSeg, Syntax};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// Which integrator renders the scene.
-pub use description::IntegratorName as IntegratorKind;
+pub use crate::description::IntegratorName as IntegratorKind;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -101,152 +95,6 @@ pub struct Scene {
     /// What the scene's mesh files brought besides triangles (materials, emitting surfaces, lights,
     /// cameras, warnings).
     pub from_files: FileExtras,
-}
-
-/// A scene description read from a file, and the folder its relative paths are relative to.
-#[derive(Clone, Debug)]
-pub struct LoadedDescription {
-    pub description: Description,
-    pub base_dir: PathBuf,
-    /// What the reader noticed but could render (pbrt's unused parameters).
-    pub warnings: Vec<String>,
-}
-
-/// Reads and validates a scene file (TOML, or JSON by extension, or a Mitsuba 3 `.xml`).
-pub fn load_description(path: &Path) -> Result<LoadedDescription> {
-    if is_xml(path) {
-        return load_xml_description(path, &crate::io::mitsuba::XmlOptions::default());
-    }
-    if crate::io::pbrt::is_pbrt(path) {
-        return load_pbrt_description(path);
-    }
-    let syntax = Syntax::from_path(path).ok_or_else(|| {
-        Error::input(
-            Location::file(path),
-            "unknown scene file extension: expected .toml, .json, .xml or .pbrt",
-        )
-    })?;
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = crate::io::text::utf8_text(bytes, path)?;
-    let description = description_from_str(&text, syntax, path)?;
-    let base_dir = path
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| PathBuf::from("."));
-    validate::files(&description, &base_dir)
-        .map_err(|invalid| located(&invalid, &text, syntax, path))?;
-    Ok(LoadedDescription {
-        description,
-        base_dir,
-        warnings: Vec::new(),
-    })
-}
-
-/// Whether `path` names a Mitsuba 3 XML scene (by its extension).
-pub fn is_xml(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("xml"))
-}
-
-/// Reads and validates a Mitsuba 3 scene file, with `-D name=value` parameters in `options`.
-/// Its file names come out absolute; problems only validation sees are reported at the line of
-/// the element (or parameter) that made the description's entry, with the entry's key.
-pub fn load_xml_description(
-    path: &Path,
-    options: &crate::io::mitsuba::XmlOptions,
-) -> Result<LoadedDescription> {
-    let (description, origins) = crate::io::mitsuba::load_xml_with_origins(path, options)?;
-    let base_dir = path
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| PathBuf::from("."));
-    let placed = |invalid: validate::Invalid| converted_error(&invalid, &origins, path);
-    validate::validate(&description).map_err(placed)?;
-    validate::files(&description, &base_dir).map_err(placed)?;
-    Ok(LoadedDescription {
-        description,
-        base_dir,
-        warnings: Vec::new(),
-    })
-}
-
-/// A problem in a description converted from `path`: at the place `origins` recorded for it, or
-/// at the file where none was.
-fn converted_error(invalid: &validate::Invalid, origins: &origins::Origins, path: &Path) -> Error {
-    let location = origins
-        .locate(&invalid.path)
-        .cloned()
-        .unwrap_or_else(|| Location::file(path));
-    let message = format!(
-        "in the converted scene, {}: {}",
-        path_string(&invalid.path),
-        invalid.message
-    );
-    Error::input(location, message)
-}
-
-/// Reads and validates a pbrt-v4 scene file (see `io::pbrt` and docs/pbrt.md). Its file names
-/// come out absolute; the warnings list the parameters the scene gives and nothing read, as
-/// pbrt reports them.
-pub fn load_pbrt_description(path: &Path) -> Result<LoadedDescription> {
-    let scene = crate::io::pbrt::load_pbrt(path)?;
-    let base_dir = path
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| PathBuf::from("."));
-    let placed = |invalid: validate::Invalid| converted_error(&invalid, &scene.origins, path);
-    validate::validate(&scene.description).map_err(placed)?;
-    validate::files(&scene.description, &base_dir).map_err(placed)?;
-    Ok(LoadedDescription {
-        description: scene.description,
-        base_dir,
-        warnings: scene.warnings,
-    })
-}
-
-/// Parses and validates scene text; `origin` names it in error messages.
-pub fn description_from_str(text: &str, syntax: Syntax, origin: &Path) -> Result<Description> {
-    let description = parse_description(text, syntax, origin)?;
-    validate::validate(&description).map_err(|invalid| located(&invalid, text, syntax, origin))?;
-    Ok(description)
-}
-
-/// A validation problem as an error at the line and column where the value is written.
-fn located(invalid: &validate::Invalid, text: &str, syntax: Syntax, origin: &Path) -> Error {
-    let location = match syntax {
-        Syntax::Toml => toml_span(text, &invalid.path)
-            .map(|span| {
-                let (line, col) = parse::line_column(text, span.start);
-                Location::line(origin, line, Some(col))
-            })
-            .unwrap_or_else(|| Location::file(origin)),
-        Syntax::Json => parse::json_offset(text, &invalid.path)
-            .map(|at| {
-                let (line, col) = parse::line_column(text, at);
-                Location::line(origin, line, Some(col))
-            })
-            .unwrap_or_else(|| Location::file(origin)),
-    };
-    let message = format!("{}: {}", path_string(&invalid.path), invalid.message);
-    Error::input(location, message)
-}
-
-/// `shape[2].radius`, for messages.
-fn path_string(path: &[PathSeg]) -> String {
-    let mut s = String::new();
-    for seg in path {
-        match seg {
-            PathSeg::Key(k) => {
-                if !s.is_empty() {
-                    s.push('.');
-                }
-                s.push_str(k);
-            }
-            PathSeg::Index(i) => s.push_str(&format!("[{i}]")),
-        }
-    }
-    s
 }
 
 impl Scene {

@@ -95,10 +95,10 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::description::description_from_str;
+    use crate::description::parse::Syntax;
     use crate::math::Vec3;
     use crate::scene::builtin::builtin_scene;
-    use crate::scene::description_from_str;
-    use crate::scene::parse::Syntax;
     use std::path::Path;
 
     /// The queries of a scene of one leaf (Whitted's spheres and rectangle), asked of

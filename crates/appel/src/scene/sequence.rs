@@ -17,9 +17,9 @@
 //! every structure returns the closest hit, so the images agree (tested in
 //! `tests/animation.rs`).
 
-use super::animation::{at_frame, frame_count};
 use super::{Description, Scene, SceneOptions};
 use crate::accel::{Accel, Brute};
+use crate::description::animation::{at_frame, frame_count};
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};

@@ -2,9 +2,9 @@
 //! in the same order: described materials as written, Whitted's (the default, mesh files' MTL and
 //! glTF materials, `type = "whitted"`) by their physically based equivalent.
 
-use super::description::{Description, MaterialDesc};
 use super::textures::TextureCache;
 use super::Material as WhittedMaterial;
+use crate::description::{Description, MaterialDesc};
 use crate::error::{Error, Result};
 use crate::shading::bsdf::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use crate::shading::material::Material;

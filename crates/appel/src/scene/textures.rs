@@ -1,6 +1,6 @@
 //! Textures from their descriptions, each image file read once however many materials use it.
 
-use super::description::{TextureDesc, TextureFilter, TextureNode, TextureWrap};
+use crate::description::{TextureDesc, TextureFilter, TextureNode, TextureWrap};
 use crate::error::Result;
 use crate::io::bitmap_read::{read_bitmap, Bitmap};
 use crate::shading::texture::{BitmapTexture, Checkerboard, Filter, Texture, Wrap};

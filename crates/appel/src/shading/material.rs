@@ -7,16 +7,16 @@ pub use super::bsdf::{PrincipledTextures, PrincipledThinTextures, Roughness};
 use super::frame::ShadingFrame;
 use super::perturb::{normal_from_bump, normal_from_map, Perturbation};
 use super::texture::{AttributePoint, TexPoint, Texture};
+use crate::description::{for_each_bsdf, MaterialDesc};
 use crate::error::Result;
 use crate::math::{Vec2, Vec3};
-use crate::scene::description::{for_each_bsdf, MaterialDesc};
 
 macro_rules! define_material {
     ($($Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
         use super::bsdf::{$($Material,)*};
 
         /// A material of the Monte Carlo integrators: one of the BSDFs with its textures, or a
-        /// wrapper around others (see [`crate::scene::description::MaterialDesc`] for why the
+        /// wrapper around others (see [`crate::description::MaterialDesc`] for why the
         /// wrappers are not BSDFs of the registry).
         #[derive(Clone, Debug)]
         pub enum Material {

@@ -375,9 +375,9 @@ fn blend_sampling_follows_the_mixed_pdf() {
 /// wrappers or maps of maps are refused.
 #[test]
 fn toml_wrappers_parse_and_validate() {
-    use crate::scene::description::MaterialDesc;
-    use crate::scene::description_from_str;
-    use crate::scene::parse::Syntax;
+    use crate::description::description_from_str;
+    use crate::description::parse::Syntax;
+    use crate::description::MaterialDesc;
     let base = r#"
 [camera]
 eye = [0, 0, 5]

@@ -9,5 +9,5 @@ pub mod emitter;
 pub mod frame;
 pub mod material;
 pub mod perturb;
-pub mod spectra;
+pub use crate::description::spectra;
 pub mod texture;

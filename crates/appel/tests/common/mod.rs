@@ -1,10 +1,11 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+use appel::description::parse::Syntax;
+use appel::description::{description_from_str, Description};
 use appel::render::{render, Film, RenderOptions, RenderStats};
 use appel::scene::builtin::builtin_scene;
-use appel::scene::parse::Syntax;
-use appel::scene::{description_from_str, Description, Scene};
+use appel::scene::Scene;
 use std::path::Path;
 
 pub fn builtin(name: &str) -> Description {

@@ -4,9 +4,10 @@
 //! parsed, validated and built (with the files it names). Adding a reader is one entry here.
 
 use super::seeds;
+use appel::description::validate;
+use appel::description::Description;
 use appel::error::{Error, Result};
-use appel::scene::parse::Syntax;
-use appel::scene::{validate, Description, Scene};
+use appel::scene::Scene;
 use std::path::Path;
 
 /// What an error about this format must say besides the file: a line (text), a line or a byte
@@ -196,12 +197,8 @@ const MAX_SCENE_BYTES: u64 = 256 << 20;
 /// As `appel render scene.toml` does before rendering: read, validate, check the memory estimate,
 /// build.
 fn read_scene(path: &Path) -> Result<()> {
-    let loaded = if appel::scene::is_xml(path) {
-        appel::scene::load_xml_description(path, &Default::default())?
-    } else {
-        assert!(Syntax::from_path(path).is_some());
-        appel::scene::load_description(path)?
-    };
+    assert!(appel::format::find(path).is_some(), "{}", path.display());
+    let loaded = appel::format::load(path, &Default::default())?;
     let mut d: Description = loaded.description;
     d.camera.width = d.camera.width.min(16);
     d.camera.height = d.camera.height.min(16);

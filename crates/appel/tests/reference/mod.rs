@@ -2,9 +2,10 @@
 //! per-pixel z-test with the render's own variance and a Šidák-corrected threshold, and the
 //! per-channel ratio of the image means.
 
+use appel::description::Description;
 use appel::io::bitmap_read::read_bitmap;
 use appel::render::{render, Film, RenderOptions};
-use appel::scene::{load_xml_description, Description, Scene};
+use appel::scene::Scene;
 use std::path::{Path, PathBuf};
 
 pub fn shared(rel: &str) -> Option<PathBuf> {
@@ -80,19 +81,19 @@ pub fn render_xml_with_params(
     params: &[(&str, &str)],
     adjust: impl FnOnce(&mut Description),
 ) -> Averaged {
-    let options = appel::io::mitsuba::XmlOptions {
+    let options = appel::format::FormatOptions {
         params: params
             .iter()
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect(),
     };
-    let loaded = load_xml_description(scene, &options).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = appel::format::load(scene, &options).unwrap_or_else(|e| panic!("{e}"));
     render_loaded(loaded, setup, adjust)
 }
 
 /// Renders a scene read by any reader, its description changed by `adjust` first.
 pub fn render_loaded(
-    loaded: appel::scene::LoadedDescription,
+    loaded: appel::format::LoadedDescription,
     setup: &Setup,
     adjust: impl FnOnce(&mut Description),
 ) -> Averaged {

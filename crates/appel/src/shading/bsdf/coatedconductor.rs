@@ -7,7 +7,7 @@ use super::layered::{Interface, Layered, Metal};
 use super::{BsdfMaterial, TextureSource};
 use crate::error::Result;
 use crate::math::Vec3;
-use crate::scene::description::CoatedConductorDesc;
+use crate::description::CoatedConductorDesc;
 use crate::shading::texture::{TexPoint, Texture};
 
 /// A metal under a dielectric coating.

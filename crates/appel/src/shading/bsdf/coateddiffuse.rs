@@ -5,7 +5,7 @@ use super::layered::{Interface, Layer, Layered};
 use super::{BsdfMaterial, Diffuse, TextureSource};
 use crate::error::Result;
 use crate::math::Vec3;
-use crate::scene::description::{CoatedDiffuseDesc, LayerDesc};
+use crate::description::{CoatedDiffuseDesc, LayerDesc};
 use crate::shading::texture::{TexPoint, Texture};
 
 /// A Lambertian base under a dielectric coating.

@@ -6,7 +6,7 @@ use super::{Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{BsdfMaterial, TextureSource};
 use crate::error::{Error, Result};
-use crate::scene::description::ConductorDesc;
+use crate::description::ConductorDesc;
 use crate::shading::spectra;
 use crate::shading::texture::{TexPoint, Texture};
 

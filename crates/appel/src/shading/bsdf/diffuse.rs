@@ -7,7 +7,7 @@ use std::f32::consts::FRAC_1_PI;
 use super::BsdfMaterial;
 use super::TextureSource;
 use crate::error::Result;
-use crate::scene::description::DiffuseDesc;
+use crate::description::DiffuseDesc;
 use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -14,8 +14,8 @@
 //! arithmetic operations and depends only on constants is computed once per material at scene
 //! load ([`PlasticParams::precompute`], [`RoughPlasticParams::precompute`]).
 //!
-//! Each BSDF is one line of the registry (`scene::description::bsdf_registry`) and two files:
-//! its parameters in the description (`scene::description::bsdf::NAME`) and, here in
+//! Each BSDF is one line of the registry (`description::bsdf_registry`) and two files:
+//! its parameters in the description (`description::bsdf::NAME`) and, here in
 //! `bsdf/NAME.rs`, its [`Bsdf`] (sampling and evaluation) and its [`BsdfMaterial`] (textures
 //! resolved at a hit).
 
@@ -33,9 +33,9 @@ pub use principled::PrincipledTextures;
 pub use principledthin::PrincipledThinTextures;
 pub use roughplastic::{RoughPlasticParams, TRANSMITTANCE_RES};
 
+use crate::description::{for_each_bsdf, DistributionDesc, IorDesc, TextureDesc};
 use crate::error::{Error, Result};
 use crate::math::{Vec2, Vec3};
-use crate::scene::description::{for_each_bsdf, DistributionDesc, IorDesc, TextureDesc};
 use crate::shading::spectra;
 use crate::shading::texture::{TexPoint, Texture};
 use std::ops::BitOr;

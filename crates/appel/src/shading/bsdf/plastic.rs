@@ -8,7 +8,7 @@ use super::{Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, texture_mean, BsdfMaterial, TextureSource};
 use crate::error::Result;
-use crate::scene::description::PlasticDesc;
+use crate::description::PlasticDesc;
 use crate::shading::texture::{TexPoint, Texture};
 
 /// What a plastic material computes once at scene load from its constants.

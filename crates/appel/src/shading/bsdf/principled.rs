@@ -25,7 +25,7 @@ use crate::shading::texture::luminance;
 use std::f32::consts::{FRAC_1_PI, PI};
 use super::{BsdfMaterial, TextureSource};
 use crate::error::Result;
-use crate::scene::description::{PrincipledDesc, TextureDesc};
+use crate::description::{PrincipledDesc, TextureDesc};
 use crate::shading::texture::{TexPoint, Texture};
 
 /// The per-hit values of a principled material.

@@ -16,7 +16,7 @@ use crate::math::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 use super::{BsdfMaterial, TextureSource};
 use crate::error::Result;
-use crate::scene::description::{PrincipledThinDesc, TextureDesc};
+use crate::description::{PrincipledThinDesc, TextureDesc};
 use crate::shading::texture::{TexPoint, Texture};
 
 /// The per-hit values of a thin principled material.

@@ -8,7 +8,7 @@ use crate::math::{Vec2, Vec3};
 use super::conductor::metal;
 use super::{BsdfMaterial, Roughness, TextureSource};
 use crate::error::Result;
-use crate::scene::description::RoughConductorDesc;
+use crate::description::RoughConductorDesc;
 use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,7 +7,7 @@ use super::{mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, BsdfMaterial, Roughness, TextureSource};
 use crate::error::Result;
-use crate::scene::description::RoughDielectricDesc;
+use crate::description::RoughDielectricDesc;
 use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -13,7 +13,7 @@ use std::f32::consts::FRAC_1_PI;
 use std::sync::Mutex;
 use super::{ior_ratio, texture_mean, BsdfMaterial, TextureSource};
 use crate::error::{Error, Result};
-use crate::scene::description::RoughPlasticDesc;
+use crate::description::RoughPlasticDesc;
 use crate::shading::texture::{TexPoint, Texture};
 
 /// Entries of the rough transmittance table over `cos θ ∈ [0, 1]` (Mitsuba's

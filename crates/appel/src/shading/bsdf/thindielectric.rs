@@ -6,7 +6,7 @@ use super::{Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, BsdfMaterial, TextureSource};
 use crate::error::Result;
-use crate::scene::description::ThinDielectricDesc;
+use crate::description::ThinDielectricDesc;
 use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -2,7 +2,7 @@
 //! hit's barycentric coordinates) or per triangle, read where a ray hits the mesh.
 
 use super::luminance;
-use crate::io::mesh_file::MeshAttribute;
+use crate::description::loaded_mesh::MeshAttribute;
 use glam::Vec3;
 
 /// The attributes of one mesh.

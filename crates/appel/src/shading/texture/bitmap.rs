@@ -4,44 +4,28 @@
 //! indices (Dr.Jit's `Texture::eval`, which Mitsuba's texture calls).
 
 use super::{luminance, transform_uv};
+pub use crate::description::texture_lookup::{Filter, Wrap};
 use crate::io::bitmap_read::Bitmap;
 use glam::{Mat3, Vec2, Vec3};
 use std::sync::Arc;
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Filter {
-    #[default]
-    Bilinear,
-    Nearest,
-}
-
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Wrap {
-    #[default]
-    Repeat,
-    Mirror,
-    Clamp,
-}
-
-impl Wrap {
-    /// Brings a pixel index into [0, n).
-    #[inline]
-    fn apply(self, i: i64, n: i64) -> usize {
-        let j = match self {
-            Wrap::Clamp => i.clamp(0, n - 1),
-            Wrap::Repeat => i.rem_euclid(n),
-            Wrap::Mirror => {
-                // Period 2n: the image, then its reflection (pixel -1 is pixel 0).
-                let m = i.rem_euclid(2 * n);
-                if m < n {
-                    m
-                } else {
-                    2 * n - 1 - m
-                }
+/// Brings a pixel index into [0, n) as `wrap` says.
+#[inline]
+fn wrap_index(wrap: Wrap, i: i64, n: i64) -> usize {
+    let j = match wrap {
+        Wrap::Clamp => i.clamp(0, n - 1),
+        Wrap::Repeat => i.rem_euclid(n),
+        Wrap::Mirror => {
+            // Period 2n: the image, then its reflection (pixel -1 is pixel 0).
+            let m = i.rem_euclid(2 * n);
+            if m < n {
+                m
+            } else {
+                2 * n - 1 - m
             }
-        };
-        j as usize
-    }
+        }
+    };
+    j as usize
 }
 
 /// An image on uv. Colour bitmaps (RGB, RGBA) are looked up as RGB and grey ones (Y, YA) as grey;
@@ -119,8 +103,8 @@ impl BitmapTexture {
         let (sx, sy) = (p.x * w as f32, p.y * h as f32);
         match self.filter {
             Filter::Nearest => {
-                let x = self.wrap.apply(sx.floor() as i64, w);
-                let y = self.wrap.apply(sy.floor() as i64, h);
+                let x = wrap_index(self.wrap, sx.floor() as i64, w);
+                let y = wrap_index(self.wrap, sy.floor() as i64, h);
                 self.texel(x, y)
             }
             Filter::Bilinear => {
@@ -129,8 +113,14 @@ impl BitmapTexture {
                 let (x0, y0) = (fx.floor(), fy.floor());
                 let (wx, wy) = (fx - x0, fy - y0);
                 let (x0, y0) = (x0 as i64, y0 as i64);
-                let (xa, xb) = (self.wrap.apply(x0, w), self.wrap.apply(x0 + 1, w));
-                let (ya, yb) = (self.wrap.apply(y0, h), self.wrap.apply(y0 + 1, h));
+                let (xa, xb) = (
+                    wrap_index(self.wrap, x0, w),
+                    wrap_index(self.wrap, x0 + 1, w),
+                );
+                let (ya, yb) = (
+                    wrap_index(self.wrap, y0, h),
+                    wrap_index(self.wrap, y0 + 1, h),
+                );
                 let top = self.texel(xa, ya) * (1.0 - wx) + self.texel(xb, ya) * wx;
                 let bottom = self.texel(xa, yb) * (1.0 - wx) + self.texel(xb, yb) * wx;
                 top * (1.0 - wy) + bottom * wy
@@ -162,8 +152,14 @@ impl BitmapTexture {
         let (x0, y0) = (fx.floor(), fy.floor());
         let (wx, wy) = (fx - x0, fy - y0);
         let (x0, y0) = (x0 as i64, y0 as i64);
-        let (xa, xb) = (self.wrap.apply(x0, w), self.wrap.apply(x0 + 1, w));
-        let (ya, yb) = (self.wrap.apply(y0, h), self.wrap.apply(y0 + 1, h));
+        let (xa, xb) = (
+            wrap_index(self.wrap, x0, w),
+            wrap_index(self.wrap, x0 + 1, w),
+        );
+        let (ya, yb) = (
+            wrap_index(self.wrap, y0, h),
+            wrap_index(self.wrap, y0 + 1, h),
+        );
         let value = |x, y| {
             let c = self.texel(x, y);
             if self.is_grey() {

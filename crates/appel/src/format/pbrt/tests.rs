@@ -1,0 +1,309 @@
+//! The pbrt reader on small scenes written here: directives, the graphics state, mappings and
+//! their errors.
+
+use super::{load_pbrt, PbrtScene};
+use crate::description::*;
+use std::path::PathBuf;
+
+/// Writes `text` as `a.pbrt` in a fresh folder and reads it.
+fn load(text: &str) -> crate::error::Result<PbrtScene> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static N: AtomicUsize = AtomicUsize::new(0);
+    let dir: PathBuf = std::env::temp_dir().join(format!(
+        "appel-pbrt-{}-{}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("a.pbrt");
+    std::fs::write(&path, text).unwrap();
+    load_pbrt(&path)
+}
+
+fn err(text: &str) -> String {
+    load(text).map(|_| ()).unwrap_err().to_string()
+}
+
+/// A camera whose frame is right-handed in world space (`Scale -1 1 1` before `LookAt`, as
+/// pbrt's exporters write it): the world is not mirrored.
+const CAMERA: &str =
+    "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\n";
+
+#[test]
+fn a_lookat_camera_mirrors_the_world_as_pbrt_sees_it() {
+    // pbrt's LookAt puts world +x on the left of this image; Appel's camera has +x on the
+    // right, so the sphere moves to x = -1.
+    let s = load(
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\n\
+         Film \"rgb\" \"integer xresolution\" 200 \"integer yresolution\" 100\n\
+         WorldBegin\nTranslate 1 0 0\nShape \"sphere\" \"float radius\" 0.5\n",
+    )
+    .unwrap();
+    let d = &s.description;
+    assert_eq!((d.camera.width, d.camera.height), (200, 100));
+    assert_eq!(d.camera.fov, 30.0);
+    assert_eq!(d.camera.fov_axis, FovAxis::Smaller);
+    let ShapeDesc::Sphere(sphere) = &d.shapes[0] else {
+        panic!("{:?}", d.shapes)
+    };
+    assert!((sphere.center[0] + 1.0).abs() < 1e-6, "{sphere:?}");
+    assert_eq!(sphere.radius, 0.5);
+    // With a right-handed camera frame nothing is mirrored.
+    let s = load(&format!(
+        "{CAMERA}WorldBegin\nTranslate 1 0 0\nShape \"sphere\"\n"
+    ))
+    .unwrap();
+    let ShapeDesc::Sphere(sphere) = &s.description.shapes[0] else {
+        panic!()
+    };
+    assert!((sphere.center[0] - 1.0).abs() < 1e-6, "{sphere:?}");
+}
+
+#[test]
+fn maxdepth_counts_bounces() {
+    let s = load(&format!(
+        "Integrator \"path\" \"integer maxdepth\" 3\n{CAMERA}WorldBegin\n"
+    ))
+    .unwrap();
+    assert_eq!(s.description.render.max_depth, 4);
+    assert_eq!(s.description.render.integrator, IntegratorName::Path);
+    // pbrt's default: volpath with maxdepth 5; its default sampler takes 16 samples.
+    let s = load(&format!("{CAMERA}WorldBegin\n")).unwrap();
+    assert_eq!(s.description.render.max_depth, 6);
+    assert_eq!(s.description.render.spp, 16);
+}
+
+/// Integrators that estimate the same light transport are path traced with a warning at their
+/// line, keeping their depth; one that computes something else is an error.
+#[test]
+fn other_estimators_of_the_same_light_are_path_traced() {
+    for name in ["bdpt", "sppm", "mlt"] {
+        let s = load(&format!(
+            "Integrator \"{name}\" \"integer maxdepth\" 7\n{CAMERA}WorldBegin\n"
+        ))
+        .unwrap();
+        assert_eq!(s.description.render.integrator, IntegratorName::Path);
+        assert_eq!(s.description.render.max_depth, 8);
+        assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+        assert!(
+            s.warnings[0].contains("a.pbrt:1:1") && s.warnings[0].contains(name),
+            "{:?}",
+            s.warnings
+        );
+    }
+    let e = err(&format!(
+        "Integrator \"ambientocclusion\"\n{CAMERA}WorldBegin\n"
+    ));
+    assert!(
+        e.contains("a.pbrt:1:1") && e.contains("unsupported integrator \"ambientocclusion\""),
+        "{e}"
+    );
+}
+
+#[test]
+fn errors_name_the_file_and_line() {
+    let e = err(&format!("{CAMERA}WorldBegin\nFoo 1 2\n"));
+    assert!(e.contains("a.pbrt:5:1") && e.contains("Foo"), "{e}");
+    let e = err(&format!(
+        "{CAMERA}WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
+    ));
+    assert!(e.contains("a.pbrt:5:1") && e.contains("media"), "{e}");
+    let e = err(&format!("{CAMERA}WorldBegin\nShape \"cylinder\"\n"));
+    assert!(e.contains("unsupported shape \"cylinder\""), "{e}");
+    let e = err(&format!("{CAMERA}WorldBegin\nInclude \"nowhere.pbrt\"\n"));
+    assert!(
+        e.contains("a.pbrt:5:1") && e.contains("nowhere.pbrt"),
+        "{e}"
+    );
+    let e = err(&format!("{CAMERA}WorldBegin\nAttributeBegin\n"));
+    assert!(e.contains("AttributeBegin has no AttributeEnd"), "{e}");
+    let e = err(&format!(
+        "{CAMERA}WorldBegin\nShape \"plymesh\" \"string filename\" \"gone.ply\"\n"
+    ));
+    assert!(e.contains("gone.ply") && e.contains("a.pbrt:5:1"), "{e}");
+}
+
+#[test]
+fn unused_parameters_are_warnings() {
+    let s = load(&format!(
+        "{CAMERA}WorldBegin\nShape \"sphere\" \"float radius\" 2\n  \"float bogus\" 3\n"
+    ))
+    .unwrap();
+    assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+    assert!(s.warnings[0].contains("a.pbrt:6:3") && s.warnings[0].contains("bogus"));
+}
+
+#[test]
+fn opaque_materials_are_two_sided_and_roughness_is_remapped() {
+    let s = load(&format!(
+        "{CAMERA}WorldBegin\n\
+         MakeNamedMaterial \"metal\" \"string type\" \"conductor\" \"float roughness\" 0.04\n\
+         MakeNamedMaterial \"glass\" \"string type\" \"dielectric\" \"float eta\" 1.33\n\
+         NamedMaterial \"metal\"\nShape \"sphere\"\nNamedMaterial \"glass\"\nShape \"sphere\"\n"
+    ))
+    .unwrap();
+    let m = &s.description.materials;
+    assert_eq!(
+        m["metal"],
+        MaterialDesc::TwoSided(TwoSidedDesc {
+            front: "metal.bsdf".into(),
+            back: None
+        })
+    );
+    let MaterialDesc::RoughConductor(c) = &m["metal.bsdf"] else {
+        panic!("{m:?}")
+    };
+    // remaproughness (default true): alpha = sqrt(roughness).
+    assert_eq!(c.alpha, Some(TextureDesc::Value(0.2)));
+    assert_eq!(c.distribution, DistributionDesc::Ggx);
+    let MaterialDesc::Dielectric(g) = &m["glass"] else {
+        panic!("{m:?}")
+    };
+    assert_eq!(g.int_ior, IorDesc::Value(1.33));
+    assert_eq!(s.description.shapes[1].material(), Some("glass"));
+}
+
+#[test]
+fn attributes_scope_the_material_and_area_light() {
+    let s = load(&format!(
+        "{CAMERA}WorldBegin\nAttributeBegin\nMaterial \"dielectric\"\n\
+         AreaLightSource \"diffuse\" \"rgb L\" [ 4 2 1 ] \"float scale\" 2\nShape \"sphere\"\n\
+         AttributeEnd\nShape \"sphere\"\n"
+    ))
+    .unwrap();
+    let shapes = &s.description.shapes;
+    let e = shapes[0].emitter().expect("emits");
+    assert_eq!(e.radiance, TextureDesc::Rgb([8.0, 4.0, 2.0]));
+    assert!(shapes[1].emitter().is_none());
+    assert_eq!(shapes[1].material(), Some("pbrt-default-diffuse"));
+}
+
+#[test]
+fn reverse_orientation_turns_triangles_around() {
+    let tri =
+        "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2]\n";
+    let s = load(&format!(
+        "{CAMERA}WorldBegin\n{tri}AttributeBegin\nReverseOrientation\n{tri}AttributeEnd\n"
+    ))
+    .unwrap();
+    let idx = |i: usize| match &s.description.shapes[i] {
+        ShapeDesc::TriangleMesh(t) => t.indices[0],
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(idx(0), [0, 1, 2]);
+    assert_eq!(idx(1), [0, 2, 1]);
+}
+
+#[test]
+fn object_instances_place_their_shapes() {
+    let s = load(&format!(
+        "{CAMERA}WorldBegin\nObjectBegin \"ball\"\nTranslate 0 1 0\nShape \"sphere\"\nObjectEnd\n\
+         Translate 5 0 0\nObjectInstance \"ball\"\nTranslate 5 0 0\nObjectInstance \"ball\"\n"
+    ))
+    .unwrap();
+    let centers: Vec<[f32; 3]> = s
+        .description
+        .shapes
+        .iter()
+        .map(|s| match s {
+            ShapeDesc::Sphere(x) => x.center,
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(centers, vec![[5.0, 1.0, 0.0], [10.0, 1.0, 0.0]]);
+}
+
+#[test]
+fn checkerboards_map_pbrts_squares() {
+    let s = load(&format!(
+        "{CAMERA}WorldBegin\nTexture \"c\" \"spectrum\" \"checkerboard\" \"float uscale\" 4\n\
+         \"rgb tex1\" [1 0 0] \"rgb tex2\" [0 0 1]\n\
+         Material \"diffuse\" \"texture reflectance\" \"c\"\nShape \"sphere\"\n"
+    ))
+    .unwrap();
+    let m = s.description.materials.values().find_map(|m| match m {
+        MaterialDesc::Diffuse(d) => Some(d.reflectance.clone()),
+        _ => None,
+    });
+    assert_eq!(
+        m,
+        Some(TextureDesc::Texture(TextureNode::Checkerboard {
+            color0: [1.0, 0.0, 0.0],
+            color1: [0.0, 0.0, 1.0],
+            to_uv: Some([[2.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 1.0]]),
+        }))
+    );
+}
+
+#[test]
+fn object_meshes_become_appel_instances() {
+    let s = load(&format!(
+        "{CAMERA}WorldBegin\nObjectBegin \"tri\"\nMaterial \"conductor\"\n\
+         Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0]\nObjectEnd\n\
+         Translate 5 0 0\nObjectInstance \"tri\"\nScale 2 2 2\nObjectInstance \"tri\"\n"
+    ))
+    .unwrap();
+    let d = &s.description;
+    assert!(d.shapes.is_empty(), "{:?}", d.shapes);
+    let mesh = &d.meshes["object tri"];
+    assert!(mesh.file.is_empty());
+    assert_eq!(mesh.triangles.len(), 1);
+    assert_eq!(mesh.triangles[0].positions[1], [1.0, 0.0, 0.0]);
+    assert!(mesh.triangles[0].material.is_some());
+    let placed: Vec<[[f32; 4]; 4]> = d
+        .instances
+        .iter()
+        .map(|i| i.transform.as_ref().unwrap().matrix.unwrap())
+        .collect();
+    assert_eq!(
+        placed,
+        vec![
+            [
+                [1.0, 0.0, 0.0, 5.0],
+                [0.0, 1.0, 0.0, 0.0],
+                [0.0, 0.0, 1.0, 0.0],
+                [0.0, 0.0, 0.0, 1.0]
+            ],
+            [
+                [2.0, 0.0, 0.0, 5.0],
+                [0.0, 2.0, 0.0, 0.0],
+                [0.0, 0.0, 2.0, 0.0],
+                [0.0, 0.0, 0.0, 1.0]
+            ],
+        ]
+    );
+    crate::description::validate::validate(d).unwrap();
+}
+
+/// Problems that only the validation of the converted description finds are reported at the
+/// line of the parameter that gave the value, or of the directive that made the entry.
+#[test]
+fn validation_errors_point_at_the_directive() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static N: AtomicUsize = AtomicUsize::new(0);
+    for (options, expected) in [
+        (
+            "Sampler \"halton\"\n  \"integer pixelsamples\" 100000\n",
+            "a.pbrt:5:3: in the converted scene, render.spp: `spp` must be between 1 and 65536, got 100000",
+        ),
+        (
+            "Integrator \"path\"\n  \"integer maxdepth\" 5000\n",
+            "a.pbrt:5:3: in the converted scene, render.max_depth: `max_depth` must be between",
+        ),
+    ] {
+        let dir = std::env::temp_dir().join(format!(
+            "appel-pbrt-valid-{}-{}",
+            std::process::id(),
+            N.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.pbrt");
+        std::fs::write(&path, format!("{CAMERA}{options}WorldBegin\nShape \"sphere\"\n")).unwrap();
+        let e = crate::format::load(&path, &Default::default())
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        let e = e.replace(&format!("{}/", dir.display()), "");
+        assert!(e.starts_with(expected), "{e}");
+    }
+}
