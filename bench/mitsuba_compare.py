@@ -33,9 +33,10 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 APPEL = os.path.join(ROOT, "target", "release", "appel")
-DATA = os.environ.get("APPEL_DATA", os.path.join(os.path.dirname(ROOT), "shared", "data"))
-if not os.path.isdir(DATA):
-    DATA = "/work/shared/data"
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import shared_data  # noqa: E402
+
+DATA = str(shared_data.data_dir())
 
 CORNELL = os.path.join(DATA, "bitterli-scenes/cornell-box/mitsuba/scene_v3.xml")
 CORNELL_REF = os.path.join(DATA, "bitterli-scenes/cornell-box/mitsuba/scene_v3.exr")

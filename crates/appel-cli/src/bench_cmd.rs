@@ -1,13 +1,13 @@
 use crate::scene_args::{load_scene_with, parse_size, ParamArgs, ViewArgs};
 use anyhow::{anyhow, bail, Result};
 use appel::accel::AccelKind;
-use appel::bench::{
-    bench_pairings, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget, BENCH_SCENES,
-};
 use appel::description::Description;
 use appel::format::FormatOptions;
 use appel::geometry::TriangleTest;
 use appel::scene::SceneOptions;
+use appel_bench::{
+    bench_pairings, bench_scene, BenchOptions, BenchRays, BenchResult, BenchTarget, BENCH_SCENES,
+};
 use embree_peer::BuildQuality;
 
 mod animation;

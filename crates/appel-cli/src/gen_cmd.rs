@@ -1,7 +1,7 @@
 //! `appel gen`: writes a large reproducible scene (issue 5) into a folder.
 
 use anyhow::{bail, Context, Result};
-use appel::gen::{city_scene, cloth_scene, ecosystem, GenOptions};
+use appel_gen::{city_scene, cloth_scene, ecosystem, GenOptions};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;

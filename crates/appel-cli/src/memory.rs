@@ -38,5 +38,5 @@ pub fn check_memory(d: &Description, base_dir: &Path) -> Result<()> {
 
 /// Peak resident memory of this process so far (`VmHWM`), in bytes, where the kernel reports it.
 pub fn peak_rss_bytes() -> Option<u64> {
-    appel::bench::rss::peak_bytes()
+    appel_bench::rss::peak_bytes()
 }

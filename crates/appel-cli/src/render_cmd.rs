@@ -46,8 +46,8 @@ pub struct RenderArgs {
     /// Override render.accel.
     #[arg(long)]
     accel: Option<String>,
-    /// Override render.integrator (raycast, whitted, path or direct).
-    #[arg(long)]
+    /// Override render.integrator.
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(appel::scene::IntegratorKind::NAMES))]
     integrator: Option<String>,
     /// Override render.spp.
     #[arg(long)]

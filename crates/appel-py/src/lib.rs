@@ -18,5 +18,7 @@ fn _appel(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(image::png_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(scene::builtin_names, m)?)?;
     m.add("MISS", appel::api::MISS)?;
+    // The integrators' names, from the library's list of them.
+    m.add("INTEGRATORS", appel::scene::IntegratorKind::NAMES.to_vec())?;
     Ok(())
 }

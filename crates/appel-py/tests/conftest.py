@@ -1,11 +1,13 @@
 import os
 import pathlib
 import shutil
+import sys
 
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
-SHARED = ROOT.parent / "shared" / "data"
+sys.path.insert(0, str(ROOT / "scripts"))
+import shared_data  # noqa: E402
 
 
 @pytest.fixture(scope="session")
@@ -21,7 +23,9 @@ def cli():
 
 
 def shared(*parts):
-    p = SHARED.joinpath(*parts)
-    if not p.exists():
-        pytest.skip(f"{p} is absent (../shared beside the repository)")
+    """The path of a file in the shared data; the test is skipped, with the reason in pytest's
+    summary, if it is absent."""
+    p = shared_data.path(*parts)
+    if p is None:
+        pytest.skip(f"needs ../shared/data: {shared_data.data_dir().joinpath(*parts)} is absent")
     return p

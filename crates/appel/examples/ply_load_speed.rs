@@ -2,7 +2,7 @@
 //! times `load_mesh` on it.
 //!
 //! `cargo run --release -p appel --example ply_load_speed [PATH] [TRIANGLES]`
-//! (default `/tmp/appel-grid-10m.ply`, 10 000 000 triangles).
+//! (default `appel-grid-10m.ply` in the system temporary folder, 10 000 000 triangles).
 
 use appel::geometry::TriangleMesh;
 use appel::io::load_mesh;
@@ -40,10 +40,10 @@ fn grid(n: u32) -> TriangleMesh {
 
 fn main() -> appel::Result<()> {
     let mut args = std::env::args().skip(1);
-    let path = PathBuf::from(
-        args.next()
-            .unwrap_or_else(|| "/tmp/appel-grid-10m.ply".into()),
-    );
+    let path = args
+        .next()
+        .map(PathBuf::from)
+        .unwrap_or_else(|| std::env::temp_dir().join("appel-grid-10m.ply"));
     let triangles: u64 = args
         .next()
         .and_then(|s| s.parse().ok())

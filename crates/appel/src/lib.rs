@@ -8,15 +8,11 @@
 
 pub mod accel;
 pub mod api;
-pub mod bench;
-pub mod bench_frames;
 pub mod description;
 pub mod error;
 pub mod format;
-pub mod gen;
 pub mod geometry;
 pub mod io;
-pub mod lecture2d;
 pub mod math;
 pub mod output;
 pub mod query;

@@ -294,15 +294,9 @@ fn malformed_tangent_accessors_are_errors_naming_the_file() {
 /// (vertices on a uv seam or a degenerate triangle may differ, as MikkTSpace welds and splits
 /// them by its own rules).
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn flight_helmet_s_tangents_load() {
-    let path = std::path::PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/gltf-models/FlightHelmet/glTF/FlightHelmet.gltf"
-    ));
-    if !path.exists() {
-        eprintln!("skipped: {} not found", path.display());
-        return;
-    }
+    let path = appel_testdata::path("gltf-models/FlightHelmet/glTF/FlightHelmet.gltf");
     let m = appel::io::load_mesh(&path).unwrap_or_else(|e| panic!("{e}"));
     assert!(!m.parts.is_empty());
     let (mut mirrored, mut total) = (0, 0);

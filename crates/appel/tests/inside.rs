@@ -102,16 +102,10 @@ fn winding_number_reference_is_right_on_the_icosphere() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn real_manifold_mesh_agrees_with_the_winding_number() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/odedstein-meshes/bunny/bunny.obj"
-    );
-    if !std::path::Path::new(path).exists() {
-        eprintln!("skipped: {path} is absent (the shared data sits beside the repository)");
-        return;
-    }
-    let loaded = appel::io::load_mesh(std::path::Path::new(path)).unwrap();
+    let path = appel_testdata::path("odedstein-meshes/bunny/bunny.obj");
+    let loaded = appel::io::load_mesh(&path).unwrap();
     let mut mesh = TriangleMesh::default();
     for part in &loaded.parts {
         appel::geometry::procedural::append(&mut mesh, &part.mesh);

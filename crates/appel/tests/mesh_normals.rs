@@ -212,15 +212,9 @@ fn appel_mesh_shapes_are_faceted_unless_smooth_normals_asks() {
 /// Mitsuba's own `sphere.ply` (no normals, 422 vertices) in the shared data: its smooth normals
 /// are close to radial as well, much closer than its facets.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn mitsuba_s_shared_sphere_ply_gets_radial_normals() {
-    let ply = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/mitsuba-data/common/meshes/sphere.ply"
-    ));
-    if !ply.exists() {
-        eprintln!("skipped: {} not found", ply.display());
-        return;
-    }
+    let ply = appel_testdata::path("mitsuba-data/common/meshes/sphere.ply");
     let dir = tempfile::tempdir().unwrap();
     let xml = format!(
         "{XML_HEAD}  <shape type=\"ply\"><string name=\"filename\" value=\"{}\"/></shape>\n</scene>\n",

@@ -11,20 +11,6 @@ fn obj(text: &str) -> appel::Result<LoadedMesh> {
     parse_obj(text.as_bytes(), Path::new("t.obj"), &NoMtl)
 }
 
-fn shared(rel: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/"
-    ))
-    .join(rel);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!("skipped: {} not found", p.display());
-        None
-    }
-}
-
 fn area(a: Vec2, b: Vec2, c: Vec2) -> f32 {
     0.5 * (b - a).perp_dot(c - a)
 }
@@ -163,6 +149,7 @@ fn degenerate_triangles_load() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn shared_obj_models_load() {
     for (rel, min_tris) in [
         ("common-3d-test-models/stanford-bunny.obj.gz", 60_000),
@@ -170,7 +157,7 @@ fn shared_obj_models_load() {
         ("common-3d-test-models/beetle.obj", 1000),
         ("odedstein-meshes/spot/spot_low_resolution.obj", 100),
     ] {
-        let Some(p) = shared(rel) else { continue };
+        let p = appel_testdata::path(rel);
         let m = load_mesh(&p).unwrap_or_else(|e| panic!("{e}"));
         assert!(
             m.triangle_count() >= min_tris,
@@ -253,10 +240,9 @@ fn gltf_missing_or_short_buffer_is_named() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn shared_sponza_gltf_without_its_bin_names_the_missing_file() {
-    let Some(p) = shared("gltf-models/Sponza/glTF/Sponza.gltf") else {
-        return;
-    };
+    let p = appel_testdata::path("gltf-models/Sponza/glTF/Sponza.gltf");
     let e = load_mesh(&p).unwrap_err().to_string();
     assert!(
         e.contains("Sponza.gltf") && e.contains("Sponza.bin") && e.contains("does not exist"),
@@ -265,6 +251,7 @@ fn shared_sponza_gltf_without_its_bin_names_the_missing_file() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn shared_gltf_models_load() {
     for (rel, min_tris) in [
         (
@@ -274,7 +261,7 @@ fn shared_gltf_models_load() {
         ("gltf-models/FlightHelmet/glTF/FlightHelmet.gltf", 10_000),
         ("gltf-models/Suzanne/glTF/Suzanne.gltf", 900),
     ] {
-        let Some(p) = shared(rel) else { continue };
+        let p = appel_testdata::path(rel);
         let m = load_mesh(&p).unwrap_or_else(|e| panic!("{e}"));
         assert!(
             m.triangle_count() >= min_tris,

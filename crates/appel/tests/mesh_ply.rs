@@ -375,16 +375,10 @@ fn a_mesh_without_triangles_is_refused_by_load_mesh() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn shared_igea_scan_loads_if_present() {
-    let p = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/common-3d-test-models/igea.ply.gz"
-    ));
-    if !p.exists() {
-        eprintln!("skipped: {} not found", p.display());
-        return;
-    }
-    let m = load_mesh(p).unwrap();
+    let p = appel_testdata::path("common-3d-test-models/igea.ply.gz");
+    let m = load_mesh(&p).unwrap();
     assert!(m.triangle_count() > 1000, "{}", m.triangle_count());
     assert!(!m.bounds().is_empty());
 }

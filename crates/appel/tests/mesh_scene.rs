@@ -120,15 +120,9 @@ fn bad_mesh_file_error_names_the_mesh_file() {
 
 /// The bunny, framed automatically, fills a good part of a small image and covers its centre.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn framed_bunny_is_in_view() {
-    let p = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/common-3d-test-models/stanford-bunny.obj.gz"
-    ));
-    if !p.exists() {
-        eprintln!("skipped: {} not found", p.display());
-        return;
-    }
+    let p = appel_testdata::path("common-3d-test-models/stanford-bunny.obj.gz");
     let mut d = model_description("stanford-bunny.obj.gz");
     d.camera.width = 64;
     d.camera.height = 48;

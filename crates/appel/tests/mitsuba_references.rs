@@ -10,9 +10,7 @@ use reference::{
 };
 
 fn check(scene: &str, reference_exr: &str, setup: Setup) {
-    let (Some(scene), Some(ref_path)) = (shared(scene), shared(reference_exr)) else {
-        return;
-    };
+    let (scene, ref_path) = (shared(scene), shared(reference_exr));
     let film = render_xml(&scene, &setup);
     let r = reference(&ref_path, film.width, film.height);
     let c = compare(&film, &r);
@@ -32,6 +30,7 @@ fn sphere_test(name: &str, spp: u32) {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn pointlight() {
     sphere_test("pointlight", 256);
 }
@@ -39,13 +38,12 @@ fn pointlight() {
 /// The comparison can fail: the same render 3% too bright, or a reference 3% too dark, is
 /// rejected.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn a_biased_render_is_rejected() {
-    let (Some(scene), Some(ref_path)) = (
+    let (scene, ref_path) = (
         shared(&format!("{SPHERES}/test_constant_path.xml")),
         shared(&format!("{SPHERES}/refs/test_constant_ref_rgb.exr")),
-    ) else {
-        return;
-    };
+    );
     let film = render_xml(&scene, &Setup { spp: 256, block: 1 });
     let r = reference(&ref_path, film.width, film.height);
     assert!(compare(&film, &r).passes());
@@ -55,85 +53,98 @@ fn a_biased_render_is_rejected() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn arealight() {
     sphere_test("arealight", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn constant() {
     sphere_test("constant", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn envmap() {
     sphere_test("envmap", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn roughdielectric() {
     sphere_test("roughdielectric", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn roughplastic_linear() {
     sphere_test("roughplastic_linear", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn roughplastic_nonlinear() {
     sphere_test("roughplastic_nonlinear", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn textured_diffuse() {
     sphere_test("textured_diffuse", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn texturedprincipled1() {
     sphere_test("texturedprincipled1", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn texturedprincipled2() {
     sphere_test("texturedprincipled2", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn texturedprincipledthin() {
     sphere_test("texturedprincipledthin", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn textured_roughconductor() {
     sphere_test("textured_roughconductor", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn normalmap() {
     sphere_test("normalmap", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn normalmap_roughconductor() {
     sphere_test("normalmap_roughconductor", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn normalmap_identity_roughconductor() {
     sphere_test("normalmap_identity_roughconductor", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn bumpmap() {
     sphere_test("bumpmap", 256);
 }
 
 fn scene_test(name: &str, spp: u32) {
     let dir = format!("mitsuba-data/tests/scenes/{name}");
-    let Some(refs) = shared(&format!("{dir}/refs")) else {
-        return;
-    };
+    let refs = shared(&format!("{dir}/refs"));
     let mut any = false;
     for entry in std::fs::read_dir(refs).unwrap() {
         let path = entry.unwrap().path();
@@ -149,7 +160,7 @@ fn scene_test(name: &str, spp: u32) {
             format!("{dir}/{stem}_direct.xml"),
         ];
         for xml in candidates {
-            if shared(&xml).is_some() {
+            if appel_testdata::dir().join(&xml).exists() {
                 any = true;
                 check(&xml, &format!("{dir}/refs/{file}"), Setup { spp, block: 1 });
                 break;
@@ -160,31 +171,37 @@ fn scene_test(name: &str, spp: u32) {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn mesh_attributes() {
     scene_test("mesh_attributes", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn floating_sphere() {
     scene_test("floating_sphere", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn infinite_mirrors() {
     scene_test("infinite_mirrors", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn instancing() {
     scene_test("instancing", 256);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn orthographic_sensor() {
     scene_test("orthographic_sensor", 64);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn texture_interp() {
     scene_test("texture_interp", 64);
 }
@@ -193,6 +210,7 @@ fn texture_interp() {
 /// so few samples of a pixel reach the de Bruijn texture; 1024 make the per-pixel variance a
 /// sound estimate.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn spot_light() {
     scene_test("spot_light", 1024);
 }
@@ -200,11 +218,13 @@ fn spot_light() {
 /// Cylinder, disk, rectangle, cubes, the same rectangle from a serialized, an OBJ and a PLY file,
 /// and a torus from an SDF grid, all checkerboard-textured under a constant environment.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn various_shapes() {
     scene_test("various_shapes", 64);
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn projector() {
     scene_test("projector", 64);
 }
@@ -213,14 +233,13 @@ fn projector() {
 /// lights share the light choice, so a pixel's estimate is heavy-tailed at any affordable count;
 /// 4 x 4 blocks give each tested value 4096 samples.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn various_emitters() {
     let dir = "mitsuba-data/tests/scenes/various_emitters";
-    let (Some(scene), Some(ref_path)) = (
+    let (scene, ref_path) = (
         shared(&format!("{dir}/test_various_emitters_ptracer.xml")),
         shared(&format!("{dir}/refs/test_various_emitters_ref_rgb.exr")),
-    ) else {
-        return;
-    };
+    );
     let setup = Setup { spp: 256, block: 4 };
     let film = render_xml_with_params(&scene, &setup, &[("integrator", "path")], |_| {});
     let r = reference(&ref_path, film.width, film.height);
@@ -231,6 +250,7 @@ fn various_emitters() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn cornell_box_against_mitsuba() {
     check(
         "bitterli-scenes/cornell-box/mitsuba/scene_v3.xml",
@@ -248,13 +268,12 @@ fn cornell_box_against_mitsuba() {
 /// `tent_blur_allowance` bounds what the reference's own tent filter moves across block edges
 /// (the emitter's edge, where the radiance jumps by 4, lies on one).
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn cornell_box_against_tungsten() {
-    let (Some(scene), Some(tungsten)) = (
+    let (scene, tungsten) = (
         shared("bitterli-scenes/cornell-box/mitsuba/scene_v3.xml"),
         shared("bitterli-scenes/cornell-box/pbrt/TungstenRender.exr"),
-    ) else {
-        return;
-    };
+    );
     let n = 64;
     let film = render_xml_with(&scene, &Setup { spp: 256, block: 1 }, |d| {
         (d.camera.width, d.camera.height) = (n, n);
@@ -279,15 +298,14 @@ fn cornell_box_against_tungsten() {
 /// are rejected. (The terminator shadowing moves these images' means by about 1%, which 256
 /// samples per pixel do not resolve reliably: it is checked by the unit tests.)
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn a_missing_perturbation_is_rejected() {
     use appel::description::MaterialDesc;
     for (name, change) in [("bumpmap", "no map"), ("normalmap", "no map")] {
-        let (Some(scene), Some(ref_path)) = (
+        let (scene, ref_path) = (
             shared(&format!("{SPHERES}/test_{name}_path.xml")),
             shared(&format!("{SPHERES}/refs/test_{name}_ref_rgb.exr")),
-        ) else {
-            return;
-        };
+        );
         let film = render_xml_with(&scene, &Setup { spp: 256, block: 1 }, |d| {
             for m in d.materials.values_mut() {
                 match (m, change) {

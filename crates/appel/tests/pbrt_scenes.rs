@@ -24,10 +24,8 @@ fn compare_with_reference(
     spp: u32,
     depth: i32,
     as_rendered: impl FnOnce(&mut Description),
-) -> Option<(Comparison, Comparison)> {
-    let (Some(scene), Some(ref_path)) = (shared(scene), shared(reference_exr)) else {
-        return None;
-    };
+) -> (Comparison, Comparison) {
+    let (scene, ref_path) = (shared(scene), shared(reference_exr));
     let loaded = appel::format::load(&scene, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     let film = render_loaded(loaded, &Setup { spp, block: 1 }, |d| {
@@ -63,7 +61,7 @@ fn compare_with_reference(
         &darker,
         &tent_blur_allowance(&darker, w as usize, ref_width / w),
     );
-    Some((c, c_darker))
+    (c, c_darker)
 }
 
 /// [`compare_with_reference`], asserting that the render matches and that the comparison can
@@ -76,11 +74,7 @@ fn check(
     depth: i32,
     as_rendered: impl FnOnce(&mut Description),
 ) {
-    let Some((c, c_darker)) =
-        compare_with_reference(scene, reference_exr, size, spp, depth, as_rendered)
-    else {
-        return;
-    };
+    let (c, c_darker) = compare_with_reference(scene, reference_exr, size, spp, depth, as_rendered);
     assert!(c.passes(), "{scene}: {c:?}");
     assert!(!c_darker.passes(), "a 3% bias passed: {c_darker:?}");
 }
@@ -88,6 +82,7 @@ fn check(
 /// The Cornell box from its pbrt file (trianglemesh walls and boxes, a one-sided area light,
 /// named diffuse materials) against Tungsten at 64 x 64.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn cornell_box_pbrt_against_tungsten() {
     check(
         "bitterli-scenes/cornell-box/pbrt/scene-v4.pbrt",
@@ -118,7 +113,7 @@ const TUNGSTEN_VEACH_MIS: VeachMisAsRendered = VeachMisAsRendered {
     maxdepth: 1,
 };
 
-fn veach_mis(as_rendered: VeachMisAsRendered) -> Option<(Comparison, Comparison)> {
+fn veach_mis(as_rendered: VeachMisAsRendered) -> (Comparison, Comparison) {
     compare_with_reference(
         "bitterli-scenes/veach-mis/pbrt/scene-v4.pbrt",
         "bitterli-scenes/veach-mis/pbrt/TungstenRender.exr",
@@ -146,10 +141,9 @@ fn veach_mis(as_rendered: VeachMisAsRendered) -> Option<(Comparison, Comparison)
 /// camera's `Transform` (a mirror image), the `N` normals and orientation of the meshes, the
 /// conductors' `rgb` eta and k, the spheres' emission and the black `diffuse` behind it.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn veach_mis_pbrt_against_tungsten() {
-    let Some((c, c_darker)) = veach_mis(TUNGSTEN_VEACH_MIS) else {
-        return;
-    };
+    let (c, c_darker) = veach_mis(TUNGSTEN_VEACH_MIS);
     assert!(c.passes(), "{c:?}");
     assert!(!c_darker.passes(), "a 3% bias passed: {c_darker:?}");
 }
@@ -159,6 +153,7 @@ fn veach_mis_pbrt_against_tungsten() {
 /// as bright over the whole image; GGX's longer tails widen the highlights; a second bounce
 /// lights the floor in the plates' shadow, which is black in Tungsten's image).
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn veach_mis_as_the_file_says_is_not_tungsten_s_image() {
     let variants = [
         VeachMisAsRendered {
@@ -175,9 +170,7 @@ fn veach_mis_as_the_file_says_is_not_tungsten_s_image() {
         },
     ];
     for v in variants {
-        let Some((c, _)) = veach_mis(v) else {
-            return;
-        };
+        let (c, _) = veach_mis(v);
         assert!(
             !c.passes(),
             "albedo {}, {:?}, maxdepth {}: {c:?}",
@@ -191,18 +184,15 @@ fn veach_mis_as_the_file_says_is_not_tungsten_s_image() {
 /// The killeroo scenes include geometry files that are not in shared/data: the error names the
 /// missing file and the line of the `Include`.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn a_missing_geometry_file_is_named() {
-    let Some(scene) = shared("pbrt-v4-killeroos/killeroos/killeroo-simple.pbrt") else {
-        return;
-    };
+    let scene = shared("pbrt-v4-killeroos/killeroos/killeroo-simple.pbrt");
     let e = appel::format::load(&scene, &Default::default())
         .unwrap_err()
         .to_string();
     assert!(e.contains("geometry/killeroo.pbrt"), "{e}");
     assert!(e.contains("killeroo-simple.pbrt:55:"), "{e}");
-    let Some(gold) = shared("pbrt-v4-killeroos/killeroos/killeroo-coated-gold.pbrt") else {
-        return;
-    };
+    let gold = shared("pbrt-v4-killeroos/killeroos/killeroo-coated-gold.pbrt");
     // This one fails earlier, at its texture, which is missing too.
     let e = appel::format::load(&gold, &Default::default())
         .unwrap_err()

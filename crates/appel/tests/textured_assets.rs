@@ -10,20 +10,6 @@ use glam::{Vec2, Vec3};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-fn shared(rel: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/"
-    ))
-    .join(rel);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!("skipped: {} not found", p.display());
-        None
-    }
-}
-
 /// `appel render FILE` at `w` x `h` with `spp` samples: the automatic view of a mesh file.
 fn render_model(path: &Path, w: u32, h: u32, spp: u32) -> (Scene, Film) {
     render_model_with(path, w, h, spp, |_| {})
@@ -96,10 +82,9 @@ fn srgb_to_linear(v: u8) -> f32 {
 /// correlated over the pixels that see the helmet; a flat material (one colour, "white clay")
 /// leaves the render's chromaticity constant, uncorrelated with the texture's.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn damaged_helmet_colours_follow_its_base_colour_texture() {
-    let Some(path) = shared("gltf-models/DamagedHelmet/glTF-Binary/DamagedHelmet.glb") else {
-        return;
-    };
+    let path = appel_testdata::path("gltf-models/DamagedHelmet/glTF-Binary/DamagedHelmet.glb");
     let (scene, film) = render_model(&path, 96, 72, 8);
     assert_eq!(scene.settings.integrator, IntegratorKind::Path);
     let glb = gltf::Gltf::from_slice(&std::fs::read(&path).unwrap()).unwrap();
@@ -212,10 +197,9 @@ fn render_model_lit(path: &Path, w: u32, h: u32, spp: u32) -> Film {
 /// floats so that it is exactly the unperturbed normal) instead, it looks the same as without
 /// one, to float noise.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn damaged_helmet_normal_map_tilts_and_a_flat_one_does_not() {
-    let Some(path) = shared("gltf-models/DamagedHelmet/glTF-Binary/DamagedHelmet.glb") else {
-        return;
-    };
+    let path = appel_testdata::path("gltf-models/DamagedHelmet/glTF-Binary/DamagedHelmet.glb");
     let bytes = std::fs::read(&path).unwrap();
     let dir = tempfile::tempdir().unwrap();
     exr::prelude::write_rgb_file(dir.path().join("flat.exr"), 4, 4, |_, _| {
@@ -312,10 +296,9 @@ fn damaged_helmet_normal_map_tilts_and_a_flat_one_does_not() {
 /// FlightHelmet's textures are not in the shared data: the model renders with its factors and a
 /// warning names a missing texture.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn flight_helmet_without_its_textures_renders_with_a_warning() {
-    let Some(path) = shared("gltf-models/FlightHelmet/glTF/FlightHelmet.gltf") else {
-        return;
-    };
+    let path = appel_testdata::path("gltf-models/FlightHelmet/glTF/FlightHelmet.gltf");
     let (scene, film) = render_model(&path, 24, 32, 1);
     let w = scene.from_files.warnings.join("\n");
     assert!(
@@ -489,10 +472,9 @@ fn malformed_zip_archives_are_errors_naming_them() {
 /// The shared Sponza archive (the Dabrovic atrium: an OBJ without MTL or textures) opens by the
 /// archive's name.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn sponza_zip_loads() {
-    let Some(path) = shared("sponza/sponza.zip") else {
-        return;
-    };
+    let path = appel_testdata::path("sponza/sponza.zip");
     let m = load_mesh(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(m.triangle_count(), 66_454);
 }

@@ -157,16 +157,10 @@ fn no_ray_slips_through_an_icosphere() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn no_ray_slips_through_a_shared_manifold_mesh() {
-    let p = std::path::Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/odedstein-meshes/spot/spot_low_resolution.obj"
-    ));
-    if !p.exists() {
-        eprintln!("skipped: {} not found", p.display());
-        return;
-    }
-    let m = load_mesh(p).unwrap();
+    let p = appel_testdata::path("odedstein-meshes/spot/spot_low_resolution.obj");
+    let m = load_mesh(&p).unwrap();
     assert_eq!(m.parts.len(), 1);
     check("spot_low_resolution", &weld(&m.parts[0].mesh), 20_000);
 }

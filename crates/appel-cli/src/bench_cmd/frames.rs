@@ -4,8 +4,8 @@
 use super::{parse_accels, BenchArgs};
 use crate::scene_args::load_scene;
 use anyhow::{bail, Context, Result};
-use appel::bench_frames::{bench_frames, bench_samples, SampleBench};
 use appel::description::Description;
+use appel_bench::frames::{bench_frames, bench_samples, SampleBench};
 
 /// Real-time frames unless --frames says otherwise.
 const FRAMES: usize = 100;

@@ -158,8 +158,8 @@ pub fn encode(rgb8: &[u8], width: u32, height: u32, format: u32) -> Vec<u8> {
                 out.extend_from_slice(&[p[0], p[1], p[2], 255]);
             }
         }
-        // `jpeg-encoder` (SIMD colour conversion and DCT): about 5x faster than the `image`
-        // crate's encoder on a 640x480 frame (docs/performance.md). Sides are at most
+        // `jpeg-encoder`: its colour conversion and DCT run in SIMD, where the `image` crate's
+        // encoder is scalar (docs/performance.md). Sides are at most
         // `messages::MAX_SIDE`, within its u16.
         _ => jpeg_encoder::Encoder::new(&mut out, 85)
             .encode(

@@ -1,10 +1,10 @@
 //! `GET /api/lecture?scene=..&n=..&seed=..&structure=..&c=..&check=0|1&ray=x0,y0,x1,y1`: the
 //! scene, the structure's build steps, the ray's traversal and every structure's counters on
-//! the same ray, as JSON, all computed by the library's `lecture2d` (the page only draws).
+//! the same ray, as JSON, all computed by `appel-lecture2d` (the page only draws).
 
 use super::http::Request;
-use appel::lecture2d::geometry::{brute_force, Ray2, P2};
-use appel::lecture2d::{compare, scenes, Built, Params, STRUCTURES};
+use appel_lecture2d::geometry::{brute_force, Ray2, P2};
+use appel_lecture2d::{compare, scenes, Built, Params, STRUCTURES};
 use serde_json::json;
 
 /// Most objects a page may ask for (the builds are quadratic in places).
@@ -69,7 +69,7 @@ pub fn answer(req: &Request) -> Result<String, String> {
     let trace = ray.as_ref().map(|r| built.trace(&objects, r));
     let reference = ray.as_ref().and_then(|r| brute_force(&objects, r));
     Ok(json!({
-        "world": appel::lecture2d::WORLD,
+        "world": appel_lecture2d::WORLD,
         "objects": objects,
         "structure": structure,
         "steps": built.steps(),

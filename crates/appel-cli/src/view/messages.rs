@@ -50,7 +50,15 @@ pub enum ClientMsg {
 
 pub const AOVS: &[&str] = &["color", "depth", "normal", "shapeid", "primid", "cost"];
 pub const FORMATS: &[&str] = &["jpeg", "png", "raw"];
-pub const PREVIEWS: &[&str] = &["raycast", "whitted"];
+/// The integrators a preview (shown while the chosen one renders) may use: those that sample
+/// nothing, so a preview is quick and final at one sample.
+pub fn previews() -> Vec<&'static str> {
+    appel::scene::IntegratorKind::ALL
+        .iter()
+        .filter(|k| !k.is_monte_carlo())
+        .map(|k| k.name())
+        .collect()
+}
 
 pub fn parse(text: &str) -> Result<ClientMsg, String> {
     let v: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
@@ -73,7 +81,7 @@ pub fn parse(text: &str) -> Result<ClientMsg, String> {
         Some("settings") => {
             let mut s = SettingsMsg {
                 integrator: name(&v, "integrator", appel::scene::IntegratorKind::NAMES)?,
-                preview: name(&v, "preview", PREVIEWS)?,
+                preview: name(&v, "preview", &previews())?,
                 accel: name(&v, "accel", appel::accel::AccelKind::NAMES)?,
                 aov: name(&v, "aov", AOVS)?,
                 format: name(&v, "format", FORMATS)?,

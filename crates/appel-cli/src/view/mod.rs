@@ -1,7 +1,7 @@
 //! `appel view`: a local web server for an interactive viewer of a scene (frames streamed over a
 //! WebSocket while the camera moves or an animation plays, then refined progressively), and for
 //! the lecture's 2D illustrations of acceleration structures (`--lecture`), computed by the
-//! library's `lecture2d` module and drawn by the page.
+//! `appel-lecture2d` crate and drawn by the page.
 //!
 //! Safety: the server binds to loopback unless `--host` says otherwise, serves only the assets
 //! compiled into the binary, its frames and the 2D API (never a file by path), bounds request
@@ -46,8 +46,8 @@ pub struct ViewArgs {
     /// Override render.accel.
     #[arg(long)]
     accel: Option<String>,
-    /// Override render.integrator (raycast, whitted, path or direct).
-    #[arg(long)]
+    /// Override render.integrator.
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(appel::scene::IntegratorKind::NAMES))]
     integrator: Option<String>,
     /// Override render.spp: the samples per pixel the still image converges to.
     #[arg(long)]

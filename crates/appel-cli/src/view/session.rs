@@ -380,7 +380,7 @@ fn send_frame(link: &mut Link, view: &View, out: Rendered) -> Result<(), ()> {
         "bytes": bytes.len(),
         "rays": stats.rays.total(),
         "mrays_per_s": stats.mrays_per_second(),
-        "integrator": integrator_name(out.integrator),
+        "integrator": out.integrator.name(),
         "anim_frame": out.anim_frame,
         "playing": view.playing(),
         "step": step.map(step_info),
@@ -602,10 +602,10 @@ fn hello(view: &View, scene: &Scene) -> serde_json::Value {
         "width": view.width,
         "height": view.height,
         "spp": view.spp,
-        "integrator": integrator_name(view.integrator),
+        "integrator": view.integrator.name(),
         "accel": view.accel,
         "integrators": IntegratorKind::NAMES,
-        "previews": messages::PREVIEWS,
+        "previews": messages::previews(),
         "accels": appel::accel::AccelKind::NAMES,
         "aovs": messages::AOVS,
         "formats": messages::FORMATS,
@@ -631,13 +631,4 @@ fn scene_info(view: &View, scene: &Scene) -> serde_json::Value {
 /// Sends a JSON message; `Err` when the connection is gone (the reason does not matter).
 fn send_json(ws: &mut WebSocket<TcpStream>, v: &serde_json::Value) -> Result<(), ()> {
     ws.send(Message::Text(v.to_string())).map_err(|_| ())
-}
-
-fn integrator_name(k: IntegratorKind) -> &'static str {
-    match k {
-        IntegratorKind::Raycast => "raycast",
-        IntegratorKind::Whitted => "whitted",
-        IntegratorKind::Path => "path",
-        IntegratorKind::Direct => "direct",
-    }
 }

@@ -102,7 +102,7 @@ impl Job {
             let scene = self.stage.scene_mut();
             // The scene's own camera and settings come back afterwards: a scene put back for
             // the next session starts from them.
-            let own = (scene.camera, scene.settings);
+            let own = (scene.camera, scene.settings.clone());
             scene.camera = self.camera;
             scene.settings.spp = 1;
             scene.settings.integrator = self.integrator;

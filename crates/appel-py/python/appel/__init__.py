@@ -13,10 +13,14 @@ See docs/python.md.
 from ._image import Image, AOV_NAMES
 from ._mesh import Mesh
 from ._scene import Scene, load, load_dict, builtin, builtin_names
-from ._appel import MISS
+from ._appel import MISS, INTEGRATORS as _INTEGRATORS
+
+#: The integrators a scene can be rendered with (``Scene.render(integrator=...)``).
+INTEGRATORS = tuple(_INTEGRATORS)
 
 __all__ = [
     "AOV_NAMES",
+    "INTEGRATORS",
     "Image",
     "MISS",
     "Mesh",

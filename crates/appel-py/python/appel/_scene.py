@@ -136,8 +136,8 @@ class Scene:
 
     def render(self, spp=1, integrator=None, aovs=(), threads=None, progress=False,
                camera=None, window=None):
-        """Renders an :class:`Image`. ``integrator`` overrides the scene's (raycast, whitted,
-        path, direct); ``aovs`` names AOVs to return; ``progress`` shows a bar (tqdm, notebooks
+        """Renders an :class:`Image`. ``integrator`` overrides the scene's (one of
+        ``appel.INTEGRATORS``); ``aovs`` names AOVs to return; ``progress`` shows a bar (tqdm, notebooks
         too) or is a callable given the pixels done. ``camera`` is a dict of camera keys for
         this render; ``window`` = ``(x0, y0, x1, y1)`` renders only those pixels of the image,
         each bit for bit the full render's."""

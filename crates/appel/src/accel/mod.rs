@@ -21,7 +21,7 @@ pub use octree::OctreeOptions;
 use registry::define_structures;
 pub(crate) use registry::for_each_structure;
 pub use stats::{AccelStats, TraversalStats};
-pub use structure::{BadOption, NoOptions, Structure};
+pub use structure::{same_name, BadOption, NoOptions, Structure};
 
 for_each_structure!(define_structures);
 
@@ -30,11 +30,8 @@ use crate::math::{Aabb, Ray, Vec3};
 
 /// Structures of more bytes than this prefetch the nodes and leaves they push on their stacks: with
 /// a tree far larger than the caches most visits wait for memory, and the prefetch overlaps that
-/// wait with the nearer children's visits; small trees only pay the extra instructions. Measured on
-/// the wide BVH (`appel bench TARGET --accel bvh --embree --threads 1`, alternating runs): 10^6
-/// scattered triangles (51 MB) 20-27% faster on incoherent rays and 3-5% on camera rays, the 10M
-/// city (534 MB) 3-4% and 5-8%; the ogre (6.9 MB) within noise; the bunny (3.9 MB) 3% slower on
-/// camera rays (2026-11-25).
+/// wait with the nearer children's visits; small trees, which stay in the caches, only pay the
+/// extra instructions (docs/performance.md records where the line was drawn).
 pub(crate) const PREFETCH_BYTES: usize = 16 << 20;
 
 /// Asks for the cache lines of `bytes` bytes at `p` to be brought into the cache. Never faults.

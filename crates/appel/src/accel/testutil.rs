@@ -116,3 +116,28 @@ pub fn agrees_with_brute<P: Primitives>(
 pub fn prims(m: &TriangleMesh) -> MeshPrimitives<'_> {
     MeshPrimitives::new(m)
 }
+
+/// The rays through the pixel centres of a `width x height` pinhole camera at `eye` looking at
+/// `look_at` (y up) with a vertical field of view of `fov_degrees`, row by row.
+pub fn pinhole_rays(
+    eye: Vec3,
+    look_at: Vec3,
+    fov_degrees: f32,
+    width: u32,
+    height: u32,
+) -> Vec<Ray> {
+    let forward = (look_at - eye).normalize();
+    let right = forward.cross(Vec3::Y).normalize();
+    let up = right.cross(forward);
+    let half_h = (0.5 * fov_degrees.to_radians()).tan();
+    let half_w = half_h * width as f32 / height as f32;
+    (0..height)
+        .flat_map(|j| {
+            (0..width).map(move |i| {
+                let x = (2.0 * (i as f32 + 0.5) / width as f32 - 1.0) * half_w;
+                let y = (1.0 - 2.0 * (j as f32 + 0.5) / height as f32) * half_h;
+                Ray::new(eye, (forward + x * right + y * up).normalize())
+            })
+        })
+        .collect()
+}

@@ -72,7 +72,7 @@ impl SceneHandle {
             return render(&self.read(), &options);
         }
         let mut scene = self.scene.write().unwrap_or_else(|e| e.into_inner());
-        let (settings, view) = (scene.settings, scene.camera);
+        let (settings, view) = (scene.settings.clone(), scene.camera);
         if let Some(i) = integrator {
             scene.settings.integrator = i;
         }

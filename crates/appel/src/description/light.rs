@@ -122,17 +122,6 @@ impl LightDesc {
             | LightDesc::Envmap { .. } => {}
         }
     }
-
-    pub fn kind(&self) -> &'static str {
-        match self {
-            LightDesc::Point { .. } => "point",
-            LightDesc::Directional { .. } => "directional",
-            LightDesc::Spot { .. } => "spot",
-            LightDesc::Projector { .. } => "projector",
-            LightDesc::Constant { .. } => "constant",
-            LightDesc::Envmap { .. } => "envmap",
-        }
-    }
 }
 
 /// A shape's `emitter = { radiance = ... }`: the surface emits `radiance` from its front side

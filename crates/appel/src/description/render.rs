@@ -1,13 +1,19 @@
 //! `[render]` and the camera's closed sets of names: every name here is a serde enum, so an
 //! unknown one is a parse error at its line.
 
+use super::IntegratorName;
 use crate::accel::{AccelOptions, BadOption, Structure};
 use serde::{Deserialize, Serialize};
 
 /// `[render]`, with one optional `[render.NAME]` table of build options per registered
 /// acceleration structure (`accel/registry.rs`).
+/// `[render]` also has one optional `[render.NAME]` table of parameters per registered
+/// integrator (`integrator_registry.rs`).
 macro_rules! render_desc {
-    ($($Variant:ident($module:ident::$Type:ident)),* $(,)?) => {
+    (
+        structures: [$($Variant:ident($module:ident::$Type:ident)),* $(,)?];
+        $($IVariant:ident { name: $iname:ident, runtime: $imodule:ident::$IType:ident, params: $IParams:ident, sampler: $isampler:ident, monte_carlo: $imc:literal }),* $(,)?
+    ) => {
         #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
         #[serde(deny_unknown_fields)]
         pub struct RenderDesc {
@@ -46,6 +52,12 @@ macro_rules! render_desc {
                 #[serde(default, skip_serializing_if = "Option::is_none")]
                 pub $module: Option<<crate::accel::$Type as Structure>::Options>,
             )*
+            $(
+                #[doc = concat!("`[render.", stringify!($iname), "]`: the parameters of the integrator `",
+                    stringify!($iname), "` (when `integrator` names it).")]
+                #[serde(default, skip_serializing_if = "Option::is_none")]
+                pub $iname: Option<super::$IParams>,
+            )*
         }
 
         impl Default for RenderDesc {
@@ -62,6 +74,7 @@ macro_rules! render_desc {
                     filter: FilterDesc::default(),
                     triangle: default_triangle(),
                     $($module: None,)*
+                    $($iname: None,)*
                 }
             }
         }
@@ -84,55 +97,43 @@ macro_rules! render_desc {
                 })*
                 Ok(())
             }
+
+            /// The integrators' parameters: `[render.NAME]` where the file gives it, the defaults
+            /// elsewhere.
+            pub fn integrator_params(&self) -> super::IntegratorParams {
+                super::IntegratorParams {
+                    $($iname: self.$iname.clone().unwrap_or_default(),)*
+                }
+            }
+
+            /// The integrator whose image the film holds: the one nested in `integrator` (as in
+            /// `aov`) if its table names one, else `integrator`.
+            pub fn image_integrator(&self) -> IntegratorName {
+                let nested = match self.integrator {
+                    $(IntegratorName::$IVariant => self.$iname.as_ref().and_then(super::IntegratorTable::nested),)*
+                };
+                nested.unwrap_or(self.integrator)
+            }
+
+            /// The first parameter of a `[render.NAME]` integrator table that makes no sense: the
+            /// table's name, the key and the problem.
+            pub fn check_integrator_params(&self) -> Result<(), (&'static str, &'static str, String)> {
+                $(if let Some(p) = &self.$iname {
+                    super::IntegratorTable::check(p).map_err(|(k, e)| (stringify!($iname), k, e))?;
+                })*
+                Ok(())
+            }
         }
     };
 }
-crate::accel::for_each_structure!(render_desc);
 
-/// Which integrator renders the scene.
-#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum IntegratorName {
-    /// Appel 1968: the first hit, shaded locally, with shadow rays.
-    Raycast,
-    /// Whitted 1980: recursive specular reflection and refraction.
-    #[default]
-    Whitted,
-    /// Monte Carlo path tracing with next-event estimation and MIS.
-    Path,
-    /// Direct lighting only, with MIS.
-    Direct,
+/// Hands the structures to the integrator list, which calls [`render_desc`] with both.
+macro_rules! render_desc_of_structures {
+    ($($Variant:ident($module:ident::$Type:ident)),* $(,)?) => {
+        super::for_each_integrator!(render_desc(structures: [$($Variant($module::$Type)),*];));
+    };
 }
-
-impl IntegratorName {
-    pub const NAMES: &'static [&'static str] = &["raycast", "whitted", "path", "direct"];
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "raycast" => Some(Self::Raycast),
-            "whitted" => Some(Self::Whitted),
-            "path" => Some(Self::Path),
-            "direct" => Some(Self::Direct),
-            _ => None,
-        }
-    }
-
-    /// Whether the integrator samples light transport.
-    pub fn is_monte_carlo(self) -> bool {
-        matches!(self, Self::Path | Self::Direct)
-    }
-
-    /// The sampler used when `[render]` names none: raycast and Whitted look through the pixel
-    /// centre first (their images at one sample per pixel are the convention's), path and direct
-    /// draw independent numbers as Mitsuba's default sampler does.
-    pub fn sampler(self, named: Option<SamplerName>) -> SamplerName {
-        named.unwrap_or(if self.is_monte_carlo() {
-            SamplerName::Independent
-        } else {
-            SamplerName::PixelPattern
-        })
-    }
-}
+crate::accel::for_each_structure!(render_desc_of_structures);
 
 #[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]

@@ -500,6 +500,9 @@ fn render(c: &mut Checker, d: &Description) -> Check {
     if let Err((table, bad)) = r.check_accel_options() {
         return c.at(key(table), |c| c.fail(bad.key, bad.message));
     }
+    if let Err((table, k, message)) = r.check_integrator_params() {
+        return c.at(key(table), |c| c.fail(k, message));
+    }
     Ok(())
 }
 

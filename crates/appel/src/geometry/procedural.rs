@@ -193,6 +193,21 @@ pub fn stadium(radius: f32, segments: u32, rings: u32) -> TriangleMesh {
     }
 }
 
+/// A dense small mesh in the middle of a huge sparse one, about `triangles` triangles in all: an
+/// icosphere of radius 1 (the "teapot") standing on the field of a [`stadium`] of radius 1000. The
+/// stadium's large triangles have bounds covering the teapot, the hard case for a uniform grid and
+/// for structures that do not clip references.
+pub fn teapot_in_stadium(triangles: usize) -> TriangleMesh {
+    let subdivisions = ((triangles.max(20) as f64 / 20.0).log(4.0).round() as u32).clamp(1, 9);
+    let mut teapot = icosphere(subdivisions);
+    for p in &mut teapot.positions {
+        *p += Vec3::Y;
+    }
+    let mut mesh = stadium(1000.0, 64, 8);
+    append(&mut mesh, &teapot);
+    mesh
+}
+
 /// Appends `other` to `mesh` (positions and triangles; attributes are dropped unless both have them).
 pub fn append(mesh: &mut TriangleMesh, other: &TriangleMesh) {
     let base = mesh.positions.len() as u32;

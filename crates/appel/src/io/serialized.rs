@@ -272,14 +272,10 @@ mod tests {
     }
 
     #[test]
+    #[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
     fn the_shared_test_mesh_reads_as_its_obj_twin() {
-        let dir =
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/mitsuba-data/tests");
-        let Ok(bytes) = std::fs::read(dir.join("serialized/rectangle_normals_uv.serialized"))
-        else {
-            eprintln!("skipping: the shared Mitsuba test meshes are not there");
-            return;
-        };
+        let dir = appel_testdata::path("mitsuba-data/tests");
+        let bytes = std::fs::read(dir.join("serialized/rectangle_normals_uv.serialized")).unwrap();
         let m = parse_serialized(&bytes, Path::new("rectangle_normals_uv.serialized")).unwrap();
         let mesh = &m.parts[0].mesh;
         assert!(mesh.normals.is_some() && mesh.uvs.is_some());

@@ -109,6 +109,11 @@ pub fn write_image_with(
     cost: Option<&CostImage>,
 ) -> Result<()> {
     match ImageFormat::from_path(path)? {
+        ImageFormat::Png if !film.channels.is_empty() => Err(Error::Invalid(format!(
+            "{}: the integrator's channels ({}, ...) need an .exr output",
+            path.display(),
+            film.channels[0].name
+        ))),
         ImageFormat::Png if aovs.any() => Err(Error::Invalid(format!(
             "{}: AOVs are written as EXR channels; use a .exr output",
             path.display()
@@ -228,6 +233,29 @@ pub fn write_exr_with(
             "cost.tests",
             FlatSamples::F32(cost.tests.clone()),
         ));
+    }
+    for c in &film.channels {
+        if c.values.len() != film.rgb.len() {
+            return Err(Error::Invalid(format!(
+                "channel {} has {} values for {} pixels",
+                c.name,
+                c.values.len(),
+                film.rgb.len()
+            )));
+        }
+        channels.push(AnyChannel::new(
+            c.name.as_str(),
+            FlatSamples::F32(c.values.clone()),
+        ));
+    }
+    for (i, c) in channels.iter().enumerate() {
+        if channels[..i].iter().any(|o| o.name == c.name) {
+            return Err(Error::Invalid(format!(
+                "{}: two channels are named {}",
+                path.display(),
+                c.name
+            )));
+        }
     }
     let layer = Layer::new(
         (film.width as usize, film.height as usize),

@@ -24,6 +24,16 @@ pub struct Film {
     /// The variance of each pixel's estimate, per channel, from the spread of its samples (zero
     /// at one sample per pixel; empty in films not rendered, such as [`Film::new`]'s).
     pub variance: Vec<Vec3>,
+    /// Further named image channels an integrator computed (the `aov` integrator's), each of
+    /// one value per pixel in row order; empty for most integrators.
+    pub channels: Vec<Channel>,
+}
+
+/// One named channel of a film beside its RGB (an EXR channel name such as `dd.y.T`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Channel {
+    pub name: String,
+    pub values: Vec<f32>,
 }
 
 /// What the camera ray of one pixel saw first.
@@ -59,6 +69,7 @@ impl Film {
             prim_id: vec![MISS_ID; n],
             instance_id: vec![MISS_ID; n],
             variance: vec![],
+            channels: vec![],
         }
     }
 
@@ -95,6 +106,7 @@ impl Film {
             prim_id: aovs.iter().map(|a| a.prim_id).collect(),
             instance_id: aovs.iter().map(|a| a.instance_id).collect(),
             variance,
+            channels: vec![],
         }
     }
 

@@ -4,10 +4,11 @@
 //! only splats what comes back through the reconstruction filter.
 
 use super::sampler::Sampler;
-use super::{PixelAov, TraceContext};
+use super::{Film, PixelAov, RenderOptions, RenderStats, TraceContext};
+use crate::error::Result;
 use crate::geometry::SurfaceInteraction;
 use crate::math::{Ray, Vec2, Vec3};
-use crate::scene::{Scene, SceneHit};
+use crate::scene::{RenderSettings, Scene, SceneHit};
 
 /// What one sample brought back: where on the film it was taken (in pixels, pixel `(i, j)`
 /// spanning `[i, i+1) x [j, j+1)`) and the radiance along its camera ray.
@@ -27,8 +28,23 @@ pub struct PixelRow {
 }
 
 /// An integrator, monomorphized by the render loop for each sampler: no dynamic dispatch per
-/// ray or per sample.
-pub trait Integrator: Sync {
+/// ray or per sample. Each is listed once in the registry (`for_each_integrator!`), from which
+/// the render dispatch ([`super::render`]) is generated.
+///
+/// The per-sample methods take one pixel sample at a time. A version over 8 SIMD lanes would
+/// keep this shape with the scalar types made generic (as Mitsuba 3 writes its integrators once
+/// over Dr.Jit's `Float`): `sample_row` already hands an integrator a row of pixels, so a lane
+/// version takes `out.chunks_mut(8)` with a lane mask for the row's tail, draws `[Vec2; 8]` film
+/// positions from the sampler, and traces the 8 camera rays as a packet
+/// ([`Scene::intersect_coherent`]); `FilmSample` and `PixelAov` become structures of 8-wide
+/// arrays.
+pub trait Integrator: Sync + Sized {
+    /// Its name in the registry (`render.integrator`), checked against the list at compile time.
+    const NAME: &'static str;
+
+    /// The integrator the scene's settings describe (its `[render.NAME]` table among them).
+    fn from_settings(settings: &RenderSettings) -> Result<Self>;
+
     /// Sample `index` of pixel `(x, y)`, the sampler already started there. `aov`, when given
     /// (sample 0), receives what the ray through the pixel centre sees first.
     fn sample<S: Sampler>(
@@ -60,6 +76,12 @@ pub trait Integrator: Sync {
             let aov = aovs.as_deref_mut().map(|a| &mut a[i]);
             *o = self.sample(scene, x, row.y, sampler, aov, ctx);
         }
+    }
+
+    /// Renders the scene: the render loop over this integrator and the scene's sampler. An
+    /// integrator that wraps another, or adds images of its own, says so here.
+    fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
+        super::with_sampler(scene, self, options)
     }
 }
 

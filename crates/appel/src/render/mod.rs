@@ -2,7 +2,9 @@
 //! parallel; the integrator traces each sample's camera ray itself, from the sampler's film
 //! position; the film sums the samples through the reconstruction filter.
 
+pub mod aov;
 pub mod cost;
+pub mod direct;
 mod film;
 pub mod film_block;
 pub mod filter;
@@ -15,7 +17,7 @@ mod tile_film;
 mod whitted;
 mod window;
 
-pub use film::{Film, PixelAov, MISS_ID};
+pub use film::{Channel, Film, PixelAov, MISS_ID};
 pub use integrator::{surface_hit, FilmSample, Integrator, PixelRow, SurfaceHit};
 pub use whitted::{local_shading, Raycast, Whitted};
 pub use window::Window;
@@ -107,29 +109,37 @@ pub struct RenderOptions<'a> {
 /// Renders the scene with its own integrator, sampler and filter on the current rayon thread
 /// pool. The image does not depend on the number of threads (see [`render_loop`]).
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
-    let s = &scene.settings;
-    match s.integrator {
-        IntegratorKind::Raycast => with_sampler(scene, &Raycast, options),
-        IntegratorKind::Whitted => with_sampler(
-            scene,
-            &Whitted {
-                max_depth: s.max_depth.max(0) as u32,
-            },
-            options,
-        ),
-        IntegratorKind::Path => with_sampler(
-            scene,
-            &path::PathTracer::new(s.max_depth, s.rr_depth, s.hide_emitters),
-            options,
-        ),
-        IntegratorKind::Direct => {
-            with_sampler(scene, &path::PathTracer::direct(s.hide_emitters), options)
-        }
-    }
+    render_with(scene.settings.integrator, scene, options)
 }
 
+/// The render dispatch generated from the integrator list: one match per render, then the
+/// integrator's own code, monomorphized with the sampler.
+macro_rules! define_integrator_dispatch {
+    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, params: $Params:ident, sampler: $sampler:ident, monte_carlo: $mc:literal }),* $(,)?) => {
+        $(const _: () = assert!(
+            crate::accel::same_name(<$module::$Type as Integrator>::NAME, stringify!($name)),
+            concat!("`", stringify!($Type), "::NAME` must be its name in the integrator list")
+        );)*
+
+        /// Renders the scene with integrator `kind` (whose parameters the settings hold).
+        pub fn render_with(
+            kind: IntegratorKind,
+            scene: &Scene,
+            options: &RenderOptions,
+        ) -> Result<(Film, RenderStats)> {
+            match kind {
+                $(IntegratorKind::$Variant => {
+                    <$module::$Type as Integrator>::from_settings(&scene.settings)?
+                        .render(scene, options)
+                })*
+            }
+        }
+    };
+}
+crate::description::for_each_integrator!(define_integrator_dispatch);
+
 /// The render loop monomorphized for the integrator and the scene's sampler.
-fn with_sampler<I: Integrator>(
+pub(crate) fn with_sampler<I: Integrator>(
     scene: &Scene,
     integrator: &I,
     options: &RenderOptions,

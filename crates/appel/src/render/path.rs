@@ -7,9 +7,10 @@
 use super::integrator::{camera_ray, centre_aov, FilmSample, Integrator, SurfaceHit};
 use super::sampler::Sampler;
 use super::{PixelAov, TraceContext};
+use crate::error::Result;
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Ray, Vec3};
-use crate::scene::{Scene, NO_EMITTER, NO_INSTANCE};
+use crate::scene::{RenderSettings, Scene, NO_EMITTER, NO_INSTANCE};
 use crate::shading::bsdf::BsdfFlags;
 use crate::shading::frame::ShadingFrame;
 use crate::shading::material::{Material, SurfacePoint};
@@ -70,6 +71,12 @@ fn mis_weight(a: f32, b: f32) -> f32 {
 }
 
 impl Integrator for PathTracer {
+    const NAME: &'static str = "path";
+
+    fn from_settings(s: &RenderSettings) -> Result<Self> {
+        Ok(Self::new(s.max_depth, s.rr_depth, s.hide_emitters))
+    }
+
     fn sample<S: Sampler>(
         &self,
         scene: &Scene,

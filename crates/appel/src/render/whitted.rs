@@ -9,10 +9,11 @@ use super::integrator::{
 use super::optics::{fresnel_dielectric, reflect, refract};
 use super::sampler::Sampler;
 use super::{PixelAov, TraceContext};
+use crate::error::Result;
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin_by, surface_offset, Ray, Vec2, Vec3};
 use crate::scene::Material;
-use crate::scene::{Light, Scene, SceneHit};
+use crate::scene::{Light, RenderSettings, Scene, SceneHit};
 
 /// Shadow rays towards a point light stop this fraction short of it (pbrt-v4's `ShadowEpsilon`):
 /// relative to the segment, so it is scale-free.
@@ -194,8 +195,14 @@ fn shade_camera_surface<T: ShadeFirstHit>(
 }
 
 macro_rules! first_hit_integrator {
-    ($t:ty) => {
+    ($t:ty, $name:literal, |$s:ident| $new:expr) => {
         impl Integrator for $t {
+            const NAME: &'static str = $name;
+
+            fn from_settings($s: &RenderSettings) -> Result<Self> {
+                Ok($new)
+            }
+
             #[inline]
             fn sample<S: Sampler>(
                 &self,
@@ -224,8 +231,10 @@ macro_rules! first_hit_integrator {
     };
 }
 
-first_hit_integrator!(Raycast);
-first_hit_integrator!(Whitted);
+first_hit_integrator!(Raycast, "raycast", |_s| Raycast);
+first_hit_integrator!(Whitted, "whitted", |s| Whitted {
+    max_depth: s.max_depth.max(0) as u32
+});
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Bounce {

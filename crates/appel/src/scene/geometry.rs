@@ -61,7 +61,7 @@ pub struct PrimRef {
 /// that are one primitive each (spheres, rectangles, implicit surfaces, tori), one reference
 /// each, then the meshes' triangles and the placements of `[[instance]]` entries, as runs of
 /// consecutive indices of one shape. A mesh is then one 12-byte run instead of 8 bytes per
-/// triangle (80 MB on the 10M-triangle city), and the lookup is still a single load for the
+/// triangle, and the lookup is still a single load for the
 /// one-primitive shapes, which are always called back; a mesh's triangles are looked up by a
 /// binary search over the runs (one run for a one-mesh scene), needed once per final hit when the
 /// structure holds their vertices.
@@ -107,8 +107,8 @@ impl PrimRefs {
     }
 
     /// The binary search for scenes of several runs, out of line: inlined into the traversals
-    /// (which call it for every called-back primitive), its code made the compiler stop inlining
-    /// the triangle test's finish there (traversal instructions +1.4% on the bunny, callgrind).
+    /// (which call it for every called-back primitive), its code would make the compiler stop
+    /// inlining the triangle test's finish there.
     #[inline(never)]
     fn in_runs(&self, j: u32) -> PrimRef {
         debug_assert!(j < self.in_runs);
@@ -508,7 +508,7 @@ impl Geometry {
     }
 
     /// Turns an acceleration-structure hit into a scene hit. Inlined into each query: out of line,
-    /// its call and the copy of its result were a third of its cost (Whitted's frame, callgrind).
+    /// its call and the copy of its result would cost more than its own work.
     #[inline(always)]
     pub fn scene_hit(&self, hit: Hit) -> SceneHit {
         let r = self.prims.get(hit.prim as usize);

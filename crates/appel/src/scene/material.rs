@@ -101,8 +101,9 @@ fn whitted_equivalent(
 }
 
 /// `x.floor() as i64`, without `floor`: x86_64 without SSE4.1 has no rounding instruction, so
-/// `floor` is a library call (2% of Whitted's frame). The conversion truncates towards zero (and
-/// saturates, NaN giving 0, as `floor() as i64` does); one step down fixes negative non-integers.
+/// `floor` is a library call, too slow for a per-hit texture lookup. The conversion truncates
+/// towards zero (and saturates, NaN giving 0, as `floor() as i64` does); one step down fixes
+/// negative non-integers.
 #[inline]
 fn floor_i64(x: f32) -> i64 {
     let i = x as i64;

@@ -8,9 +8,9 @@ use crate::io::mesh_file::MeshFormat;
 use crate::io::ply::read_ply_counts;
 use std::path::Path;
 
-/// Bytes per stored triangle besides its vertices: the index triple (12) and the finished BVH
-/// (measured: 30 bytes per triangle for the binary BVH, 54 for the 8-wide one with its triangle
-/// blocks, on the 10M-triangle city; docs/performance.md). A mesh's triangles have no reference
+/// Bytes per stored triangle besides its vertices: the index triple (12) and the finished 8-wide
+/// BVH with its triangle blocks (56, above what docs/performance.md records for large meshes, so
+/// that the estimate errs high). A mesh's triangles have no reference
 /// each in the scene's primitive list (one run per mesh, `scene::PrimRefs`).
 const PER_TRIANGLE: u64 = 12 + 56;
 /// Per vertex: position, normal and texture coordinates (assumed present: an upper bound).
@@ -19,8 +19,7 @@ const PER_VERTEX: u64 = 12 + 12 + 8;
 /// docs/accel.md); one structure is built at a time, so only the largest counts.
 const BUILD_SCRATCH: u64 = 40;
 /// Per instance: its two affine maps and ids (144), its share of the top-level BVH (36), and its
-/// parsed placement (72) while the instances are made (measured: 285 bytes per instance at the
-/// peak for a million of them, with an 8-byte reference each then, docs/performance.md).
+/// parsed placement (72) while the instances are made.
 const PER_INSTANCE: u64 = 144 + 36 + 72;
 /// Per pixel: the film (RGB, depth, normal, three ids: 44) and the finished tiles before they are
 /// copied into it (another 44).

@@ -49,7 +49,7 @@ use std::time::{Duration, Instant};
 /// Which integrator renders the scene.
 pub use crate::description::IntegratorName as IntegratorKind;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
     pub integrator: IntegratorKind,
     pub max_depth: i32,
@@ -62,6 +62,8 @@ pub struct RenderSettings {
     pub accel: AccelKind,
     /// `[render.NAME]` of each structure.
     pub accel_options: AccelOptions,
+    /// `[render.NAME]` of each integrator.
+    pub integrator_params: description::IntegratorParams,
 }
 
 /// How long building the scene took, phase by phase.
@@ -132,7 +134,7 @@ impl Scene {
             rr_depth: d.render.rr_depth,
             hide_emitters: d.render.hide_emitters,
             spp: d.render.spp,
-            sampler: d.render.integrator.sampler(d.render.sampler),
+            sampler: d.render.image_integrator().sampler(d.render.sampler),
             seed: d.render.seed,
             filter: d.render.filter,
             accel: AccelKind::from_name(&d.render.accel).ok_or_else(|| {
@@ -142,6 +144,7 @@ impl Scene {
                 ))
             })?,
             accel_options: d.render.accel_options(),
+            integrator_params: d.render.integrator_params(),
         };
         // What the declared meshes' structures are built as.
         let build_settings = RenderSettings {
@@ -150,7 +153,7 @@ impl Scene {
             } else {
                 settings.accel
             },
-            ..settings
+            ..settings.clone()
         };
         // Validation has rejected other names.
         let triangle_test = TriangleTest::from_name(&d.render.triangle).unwrap_or_default();

@@ -69,8 +69,8 @@ impl Scene {
 
     /// Whether the structure is a single leaf holding every primitive (a scene of a few spheres and
     /// rectangles, such as Whitted's): its queries are then asked of `Geometry::intersect_all`
-    /// directly, past the calls through `Accel`, `Bvh` and the wide tree (about 60 instructions a
-    /// ray, a sixth of such a query), with the same hits and counts.
+    /// directly, past the calls through `Accel`, `Bvh` and the wide tree (a real share of such a
+    /// cheap query), with the same hits and counts.
     #[inline(always)]
     fn one_leaf(&self) -> bool {
         self.accel.single_leaf() == Some(self.geometry.count())

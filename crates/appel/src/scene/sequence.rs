@@ -15,7 +15,7 @@
 //! Since a frame's geometry never depends on the frames before it, a frame reached through
 //! refits holds the same triangles as the frame built alone; only the trees' shapes differ, and
 //! every structure returns the closest hit, so the images agree (tested in
-//! `tests/animation.rs`).
+//! `crates/appel-gen/tests/animation.rs`).
 
 use super::{Description, Scene, SceneOptions};
 use crate::accel::{Accel, Brute};

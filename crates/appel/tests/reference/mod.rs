@@ -8,16 +8,9 @@ use appel::render::{render, Film, RenderOptions};
 use appel::scene::Scene;
 use std::path::{Path, PathBuf};
 
-pub fn shared(rel: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data")
-        .join(rel);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!("skipping: {} is not there", p.display());
-        None
-    }
+/// The path of `rel` in the shared data (tests calling it are marked as needing the data).
+pub fn shared(rel: &str) -> PathBuf {
+    appel_testdata::path(rel)
 }
 
 /// How a render compares with its reference.

@@ -29,8 +29,8 @@ use build::Builder;
 pub struct BspOptions {
     /// A node step (a dot product pair and a division), the unit of the costs.
     pub traversal_cost: f32,
-    /// Testing one primitive of a leaf (the scalar watertight test): measured at about two node
-    /// steps on the bunny (docs/accel.md).
+    /// Testing one primitive of a leaf (the scalar watertight test): about two node steps
+    /// (docs/accel.md).
     pub intersect_cost: f32,
     /// Entering a non-empty leaf, beyond its primitives' tests (the loop, the early-exit test).
     pub visit_cost: f32,

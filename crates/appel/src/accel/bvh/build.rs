@@ -93,9 +93,9 @@ impl Default for BvhOptions {
             bins: 16,
             max_leaf: 8,
             leaf_size: 4,
-            // A node visit weighs twice a triangle test. Measured on a 327k-triangle mesh (see
-            // docs/accel.md): 1:1 gave 1.7 triangles per leaf, 60% more memory and slower traversal;
-            // 4:1 even fewer nodes but slower camera rays.
+            // A node visit weighs twice a triangle test (docs/accel.md): cheaper nodes make
+            // leaves of one or two triangles, more memory and slower traversal; dearer ones fewer
+            // nodes but slower camera rays.
             traversal_cost: 2.0,
             intersect_cost: 1.0,
             block: 0,
@@ -152,11 +152,9 @@ impl BvhOptions {
     /// The options for a build over pairs of triangles, each item two triangles: leaf sizes halved,
     /// so that leaves hold as many triangles as in a build over triangles, and a block of four
     /// items costed as one, though it holds eight triangles: it is one AVX filter run, as a pair of
-    /// triangle blocks is. Measured on the 10M-triangle city (`appel bench city.ply --accel bvh
-    /// --embree --threads 1`, ratios to Embree in the same run): 387 MB against 431 MB with the
-    /// block halved too (costed as two triangle blocks), camera rays 0.87-0.88x Embree's against
-    /// 0.82x, incoherent 0.75-0.76x against 0.73x, shadow 0.84-0.86x against 0.81x. The tree's
-    /// SAH cost (`--stats`) then counts blocks of pairs, so it is not comparable with a build over
+    /// triangle blocks is. Costed as two triangle blocks, the SAH overprices leaves of pairs and
+    /// builds a larger, slower tree (docs/performance.md keeps the comparison). The tree's SAH cost
+    /// (`--stats`) then counts blocks of pairs, so it is not comparable with a build over
     /// single triangles.
     pub(crate) fn for_pairs(&self) -> Self {
         Self {
@@ -180,10 +178,9 @@ impl BvhOptions {
     /// left the leaf size and the costs at their defaults. The defaults price a node visit at two
     /// blocks of four, so every range of up to eight items is a leaf: the box's walls, each a
     /// slab spanning the room, shared leaves, and every ray from inside the room entered most of
-    /// them, testing 14-16 triangles under one 8-wide node. Leaves of at most four triangles (two
-    /// pairs), split wherever the SAH sees any gain, give 1.4 nodes and 3 triangle tests a ray and
-    /// 1.05-1.15x the rays a second (`appel bench scene_v3.xml --accel bvh --threads 1`, the
-    /// fixed cost of a ray dominating); the tree's memory is a few kilobytes either way.
+    /// them, testing most of its triangles under one 8-wide node. Leaves of at most four triangles
+    /// (two pairs), split wherever the SAH sees any gain, let a ray test only the walls it can
+    /// meet (docs/performance.md); the tree's memory is a few kilobytes either way.
     pub(crate) fn for_small_tree(&self) -> Self {
         let default = Self::default();
         if self.max_leaf != default.max_leaf || self.traversal_cost != default.traversal_cost {
@@ -562,7 +559,8 @@ impl Binner {
     /// The bins of a centroid on the three axes: the same formula for binning and partitioning, so
     /// the partition agrees exactly with the counts the cost was computed from. The clamp comes
     /// before the conversion, so the conversion is a plain truncation (`cvttps2dq`) rather than
-    /// Rust's saturating float-to-integer cast, which was a quarter of the build's instructions.
+    /// Rust's saturating float-to-integer cast, whose range and NaN checks would sit in the
+    /// binning's innermost loop.
     #[inline(always)]
     fn bins(&self, c: Vec4) -> [usize; 3] {
         let f = ((c - self.lo) * self.scale).max(Vec4::ZERO).min(self.top);
@@ -677,7 +675,7 @@ fn sah(ctx: &Ctx, idx: &mut [BuildPrim], rb: RangeBounds) -> Decision {
     // A range that may be a leaf and costs no more as one than a node's traversal alone is a leaf
     // whatever the planes: splitting it costs `traversal_cost + intersect_cost * (non-negative)`.
     // With the wide layouts (blocks of 4, `C_trav = 2`) that is every range of up to 8, most calls
-    // here; binning them only to confirm it was a fifth of the build's instructions.
+    // here; binning them only to confirm it would be a large share of the build's work.
     if n <= o.max_leaf.clamp(1, 255)
         && o.intersect_cost >= 0.0
         && o.intersect_cost * BlockCount::new(o).of(n as u32) <= o.traversal_cost
@@ -686,7 +684,7 @@ fn sah(ctx: &Ctx, idx: &mut [BuildPrim], rb: RangeBounds) -> Decision {
     }
     // A bin per primitive is as fine as binning can resolve; fewer bins for small ranges keep the
     // per-node setup and sweep, which would otherwise dominate near the leaves, proportional to the
-    // range (measured: 2.7 KB of bins cleared per node was most of the build time at 10^6 triangles).
+    // range: clearing every bin at every node would cost more than the binning near the leaves.
     let nb = o.bins.clamp(2, MAX_BINS).min(n.max(2));
     match nb {
         0..=4 => sah_bins::<4>(ctx, idx, rb, nb),

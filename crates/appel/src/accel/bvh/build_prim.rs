@@ -2,8 +2,8 @@
 //!
 //! The build spends its time taking unions of boxes (binning) and classifying centroids
 //! (partitioning), once per primitive per tree level. `glam::Vec4` keeps each corner in one SSE
-//! register, so a union is one `minps` and one `maxps`; with `Aabb`'s scalar, NaN-aware `f32::min`
-//! the same union was about ten times the instructions (callgrind, 10^5 triangles).
+//! register, so a union is one `minps` and one `maxps`, where `Aabb`'s scalar, NaN-aware `f32::min`
+//! needs a compare and a select per lane.
 //! Primitive bounds are finite: the loaders and the scene validator reject NaN and infinite
 //! coordinates, and unbounded shapes never reach a structure.
 
@@ -88,9 +88,8 @@ impl BuildPrim {
 }
 
 /// `v` with its `w` lane cleared bitwise (never read as a number first). On x86_64 one `andps`
-/// with a mask held in a register: `truncate().extend(0.0)` went through a scalar `Vec3` and rebuilt the
-/// vector lane by lane, about ten instructions, run once per primitive at every level of the build
-/// (callgrind, 10^6 triangles: 7% of the whole build's instructions).
+/// with a mask held in a register: `truncate().extend(0.0)` goes through a scalar `Vec3` and
+/// rebuilds the vector lane by lane, and this runs once per primitive at every level of the build.
 #[inline(always)]
 pub(super) fn xyz0(v: Vec4) -> Vec4 {
     #[cfg(target_arch = "x86_64")]
@@ -101,7 +100,7 @@ pub(super) fn xyz0(v: Vec4) -> Vec4 {
             let mask = _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1));
             let mut r: __m128 = v.into();
             // In assembly, because LLVM turns `_mm_and_ps` with this mask into a shuffle with a
-            // zeroed register, four instructions instead of one in the binning loop (callgrind, 2026-12-02).
+            // zeroed register, four instructions instead of one in the binning loop.
             std::arch::asm!(
                 "andps {r}, {m}",
                 r = inout(xmm_reg) r,

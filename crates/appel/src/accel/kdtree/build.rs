@@ -368,8 +368,8 @@ impl<P: Primitives> Builder<'_, P> {
             // other bound is near), it keeps the ending and flat ones below only and cuts the
             // starting ones (which then go to both sides); moved down, the reverse. Counting these
             // copies matters: a mesh vertex on the plane is where triangles end and start, and
-            // without them the SAH saw splits through vertices as free and kept making them (28
-            // leaf references per triangle on the bunny, docs/performance.md).
+            // without them the SAH sees splits through vertices as free and keeps making them,
+            // copying each vertex's fan into ever more leaves.
             let (up, down) = (next - x > gap, x - prev > gap);
             if up {
                 self.offer(node, area, a, x, 1.0, (nb + flat + starts, na), consider);

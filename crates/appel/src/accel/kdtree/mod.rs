@@ -59,16 +59,14 @@ pub struct KdOptions {
 
 impl Default for KdOptions {
     fn default() -> Self {
-        // Measured, not pbrt-v3's (80:1, leaves of 2, 3 bad splits), in units of a node step:
-        // leaves test their triangles eight at a time, so one triangle costs a tenth of a step,
-        // whose latency (a dependent load and the eight cells' intervals) bounds the traversal;
-        // 80:1 gave 12 leaf references per triangle and every path at the depth limit. A
-        // non-empty leaf costs two steps to enter (timed: a leaf whose first block alone is
-        // tested costs about 1.5 steps, docs/performance.md), which replaces the empty-space
-        // bonus (0.2 before; empty children cost nothing now); a split on a node's lower two
-        // levels costs 0.3, since the node's step computes them anyway. Together on the bunny:
-        // incoherent rays 1.61x -> 1.54x and shadow rays 1.67x -> 1.55x the BVH's time, with
-        // fewer lanes and nodes per ray.
+        // Not pbrt-v3's (80:1, leaves of 2, 3 bad splits), in units of a node step: leaves test
+        // their triangles eight at a time, so one triangle costs a tenth of a step, whose latency
+        // (a dependent load and the eight cells' intervals) bounds the traversal; pbrt's 80:1
+        // copies triangles into many leaves and drives every path to the depth limit. A
+        // non-empty leaf costs two steps to enter (loading its first block costs about as much as
+        // a step and a half), which replaces the empty-space bonus (empty children cost nothing);
+        // a split on a node's lower two levels costs 0.3, since the node's step computes them
+        // anyway. Together they give fewer lanes and nodes per ray (docs/performance.md).
         Self {
             traversal_cost: 1.0,
             inner_cost: 0.3,

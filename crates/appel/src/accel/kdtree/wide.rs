@@ -1,8 +1,7 @@
 //! Three levels of the binary kd-tree in one node: seven split planes and the eight cells they cut
 //! the node's cell into. A ray's interval in all eight cells comes from one 8-lane computation, so
 //! traversal takes a third of the steps of the binary tree, and the steps are no longer chains of
-//! dependent loads and coin-toss branches (docs/performance.md: the binary tree's node steps were
-//! half its instructions and most of its mispredictions on incoherent rays).
+//! dependent loads and coin-toss branches, which dominate the binary tree's incoherent rays.
 //!
 //! A cell's interval along the ray is the intersection of the three half-spaces on its path: the
 //! side of a plane the ray is on before crossing at `t_split` is `[-inf, t_split]`, the other side

@@ -26,7 +26,7 @@ use rayon::prelude::*;
 pub struct OctreeOptions {
     /// A cell listing more primitives than this splits into eight. 8: a leaf's primitives are
     /// tested one by one (scalar), and eight tests cost about as much as the node steps a further
-    /// split adds to every ray crossing the cell (measured on the bunny, docs/accel.md).
+    /// split adds to every ray crossing the cell (docs/accel.md).
     pub max_prims: usize,
     /// Cells at this depth (the root is depth 0) stay leaves, however many primitives they list.
     /// 16: a cell of 1/65,536 of the root's side, fine enough for a dense mesh in a large scene

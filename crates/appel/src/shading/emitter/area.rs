@@ -57,6 +57,31 @@ impl AreaEmitter {
     }
 }
 
+impl super::EmitterPlugin for AreaEmitter {
+    const NAME: &'static str = "area";
+    const DELTA: bool = false;
+    const INFINITE: bool = false;
+
+    #[inline]
+    fn sample_li(&self, p: glam::Vec3, u: glam::Vec2) -> Option<super::EmitterSample> {
+        AreaEmitter::sample_li(self, p, u)
+    }
+
+    #[inline]
+    fn pdf_li(&self, p: glam::Vec3, wi: glam::Vec3, light_point: glam::Vec3, light_normal: glam::Vec3) -> f32 {
+        AreaEmitter::pdf_li(self, p, wi, light_point, light_normal)
+    }
+
+    #[inline]
+    fn radiance_area(&self, n: glam::Vec3, uv: glam::Vec2, w: glam::Vec3) -> glam::Vec3 {
+        self.radiance(n, uv, w)
+    }
+
+    fn power(&self) -> glam::Vec3 {
+        AreaEmitter::power(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::chi2_sphere::Rng;

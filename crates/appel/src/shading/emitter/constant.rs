@@ -41,6 +41,35 @@ impl ConstantEnvironment {
     }
 }
 
+impl super::EmitterPlugin for ConstantEnvironment {
+    const NAME: &'static str = "constant";
+    const DELTA: bool = false;
+    const INFINITE: bool = true;
+
+    #[inline]
+    fn sample_li(&self, _p: glam::Vec3, u: glam::Vec2) -> Option<super::EmitterSample> {
+        ConstantEnvironment::sample_li(self, u)
+    }
+
+    #[inline]
+    fn pdf_li(&self, _p: glam::Vec3, _wi: glam::Vec3, _light_point: glam::Vec3, _light_normal: glam::Vec3) -> f32 {
+        ConstantEnvironment::pdf_li(self)
+    }
+
+    #[inline]
+    fn radiance_env(&self, _d: glam::Vec3) -> glam::Vec3 {
+        self.radiance
+    }
+
+    fn power(&self) -> glam::Vec3 {
+        ConstantEnvironment::power(self)
+    }
+
+    fn set_scene_bounds(&mut self, _center: glam::Vec3, radius: f32) {
+        self.scene_radius = radius;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::Emitter;

@@ -38,3 +38,22 @@ impl DirectionalLight {
         PI * self.scene_radius * self.scene_radius * self.irradiance
     }
 }
+
+impl super::EmitterPlugin for DirectionalLight {
+    const NAME: &'static str = "directional";
+    const DELTA: bool = true;
+    const INFINITE: bool = true;
+
+    #[inline]
+    fn sample_li(&self, _p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
+        DirectionalLight::sample_li(self)
+    }
+
+    fn power(&self) -> glam::Vec3 {
+        DirectionalLight::power(self)
+    }
+
+    fn set_scene_bounds(&mut self, _center: glam::Vec3, radius: f32) {
+        self.scene_radius = radius;
+    }
+}

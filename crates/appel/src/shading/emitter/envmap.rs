@@ -205,13 +205,44 @@ impl EnvMap {
     }
 }
 
+impl super::EmitterPlugin for EnvMap {
+    const NAME: &'static str = "envmap";
+    const DELTA: bool = false;
+    const INFINITE: bool = true;
+
+    #[inline]
+    fn sample_li(&self, _p: glam::Vec3, u: glam::Vec2) -> Option<super::EmitterSample> {
+        EnvMap::sample_li(self, u)
+    }
+
+    #[inline]
+    fn pdf_li(&self, _p: glam::Vec3, wi: glam::Vec3, _light_point: glam::Vec3, _light_normal: glam::Vec3) -> f32 {
+        EnvMap::pdf_li(self, wi)
+    }
+
+    #[inline]
+    fn radiance_env(&self, d: glam::Vec3) -> glam::Vec3 {
+        self.radiance(d)
+    }
+
+    fn power(&self) -> glam::Vec3 {
+        EnvMap::power(self)
+    }
+
+    fn set_scene_bounds(&mut self, _center: glam::Vec3, radius: f32) {
+        self.scene_radius = radius;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::chi2_sphere::{assert_fits, Rng, Spec};
     use super::super::Emitter;
     use super::*;
 
-    const MUSEUM: &str = "/work/shared/data/mitsuba-data/common/textures/museum.exr";
+    fn museum() -> std::path::PathBuf {
+        appel_testdata::path("mitsuba-data/common/textures/museum.exr")
+    }
 
     fn close(a: Vec3, b: [f32; 3], rel: f32) -> bool {
         let b = Vec3::from_array(b);
@@ -262,6 +293,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
     fn museum_radiance_matches_mitsuba() {
         let dirs = [
             Vec3::new(0.3, 0.5, -0.8),
@@ -286,13 +318,8 @@ mod tests {
             [0.624_089_36, 0.322_698_5, 0.144_843_79],
             [0.751_779_1, 0.355_441_45, 0.202_502_83],
         ];
-        let a = EnvMap::load(Path::new(MUSEUM), Mat4::IDENTITY, 1.0).unwrap();
-        let b = EnvMap::load(
-            Path::new(MUSEUM),
-            Mat4::from_rotation_y(30f32.to_radians()),
-            2.5,
-        )
-        .unwrap();
+        let a = EnvMap::load(&museum(), Mat4::IDENTITY, 1.0).unwrap();
+        let b = EnvMap::load(&museum(), Mat4::from_rotation_y(30f32.to_radians()), 2.5).unwrap();
         for (d, (p, t)) in dirs.iter().zip(plain.iter().zip(&turned)) {
             let d = d.normalize();
             assert!(
@@ -309,8 +336,9 @@ mod tests {
     }
 
     #[test]
+    #[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
     fn museum_sampling_fits_its_density() {
-        let env = EnvMap::load(Path::new(MUSEUM), Mat4::from_rotation_x(0.3), 1.0).unwrap();
+        let env = EnvMap::load(&museum(), Mat4::from_rotation_x(0.3), 1.0).unwrap();
         let e = Emitter::EnvMap(env.clone());
         assert_fits(
             "envmap",

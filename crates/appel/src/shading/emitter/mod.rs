@@ -1,31 +1,19 @@
 //! Light sources of the path tracer, as Mitsuba 3's emitters: the interface integrators sample
 //! (`sample_li`, `pdf_li`) and evaluate (`radiance_area`, `radiance_env`), and a power-based choice
-//! among them.
+//! among them. Every emitter implements [`EmitterPlugin`] and is listed once in the registry
+//! (`for_each_emitter!`, in the description layer), from which its module, the [`Emitter`] enum
+//! and the enum's per-call match are generated.
 
-mod area;
-mod constant;
-mod directional;
 pub mod distribution;
-mod envmap;
 mod light_picker;
-mod point;
-mod projector;
 pub mod shape_sampler;
-mod spot;
 pub mod warp;
 
 #[cfg(test)]
 mod chi2_sphere;
 
-pub use area::AreaEmitter;
-pub use constant::ConstantEnvironment;
-pub use directional::DirectionalLight;
-pub use envmap::EnvMap;
 pub use light_picker::LightPicker;
-pub use point::PointLight;
-pub use projector::Projector;
 pub use shape_sampler::{ShapeSampler, TriangleSet};
-pub use spot::SpotLight;
 
 use glam::{Vec2, Vec3};
 
@@ -44,103 +32,167 @@ pub struct EmitterSample {
     pub delta: bool,
 }
 
-#[derive(Clone, Debug)]
-pub enum Emitter {
-    Point(PointLight),
-    Spot(SpotLight),
-    Projector(Projector),
-    Directional(DirectionalLight),
-    Area(AreaEmitter),
-    Constant(ConstantEnvironment),
-    EnvMap(EnvMap),
-}
+/// An emitter's model: how a light is sampled from a point and evaluated along a ray. The flags
+/// are constants, so that the defaults below are checked when the registry instantiates them: a
+/// default that does not fit the emitter's flags (an infinite emitter without `radiance_env`, a
+/// surface without `radiance_area`) is a compile-time error, not a light that silently sends
+/// nothing.
+///
+/// The methods take one shading point. A version over 8 SIMD lanes would keep these signatures
+/// with the scalar types made generic (as Mitsuba 3 writes its emitters once over Dr.Jit's
+/// `Float`): `p: Vec3x8`, `u: Vec2x8` and an active-lane mask in, an `EmitterSample` of 8-wide
+/// arrays out, the flags staying per emitter (one emitter per call, its lanes the shading points
+/// that picked it).
+pub trait EmitterPlugin: Clone + std::fmt::Debug {
+    /// Its name in the registry.
+    const NAME: &'static str;
+    /// Whether its light comes from a point or a single direction (a delta distribution), which
+    /// no other sampling strategy can hit.
+    const DELTA: bool;
+    /// Whether it lies at infinity, reached by rays that leave the scene.
+    const INFINITE: bool;
 
-impl Emitter {
     /// A direction from `p` toward the light for the 2D sample `u`; `None` when the light sends
     /// nothing to `p` along it (behind a one-sided surface, outside a spot's cone, a degenerate
     /// sample).
-    pub fn sample_li(&self, p: Vec3, u: Vec2) -> Option<EmitterSample> {
-        match self {
-            Emitter::Point(l) => l.sample_li(p),
-            Emitter::Spot(l) => l.sample_li(p),
-            Emitter::Projector(l) => l.sample_li(p),
-            Emitter::Directional(l) => l.sample_li(),
-            Emitter::Area(l) => l.sample_li(p, u),
-            Emitter::Constant(l) => l.sample_li(u),
-            Emitter::EnvMap(l) => l.sample_li(u),
-        }
-    }
+    fn sample_li(&self, p: Vec3, u: Vec2) -> Option<EmitterSample>;
 
     /// Solid-angle pdf with which `sample_li` from `p` returns the direction `wi` reaching this
     /// emitter at `light_point` with normal `light_normal` (both ignored for infinite lights).
-    /// Zero for delta lights, which no other sampling strategy can hit.
-    pub fn pdf_li(&self, p: Vec3, wi: Vec3, light_point: Vec3, light_normal: Vec3) -> f32 {
-        match self {
-            Emitter::Point(_)
-            | Emitter::Spot(_)
-            | Emitter::Projector(_)
-            | Emitter::Directional(_) => 0.0,
-            Emitter::Area(l) => l.pdf_li(p, wi, light_point, light_normal),
-            Emitter::Constant(l) => l.pdf_li(),
-            Emitter::EnvMap(l) => l.pdf_li(wi),
-        }
+    /// The default, zero, is that of delta lights, and only theirs.
+    fn pdf_li(&self, _p: Vec3, _wi: Vec3, _light_point: Vec3, _light_normal: Vec3) -> f32 {
+        const { assert!(Self::DELTA, "an emitter that is not delta defines pdf_li") };
+        0.0
     }
 
-    /// Radiance leaving an area emitter's surface at normal `n`, uv `uv`, toward `w` (unit, away
-    /// from the surface): one-sided as Mitsuba's `area` (zero behind). Zero for other emitters.
-    pub fn radiance_area(&self, n: Vec3, uv: Vec2, w: Vec3) -> Vec3 {
-        match self {
-            Emitter::Area(l) => l.radiance(n, uv, w),
-            _ => Vec3::ZERO,
-        }
-    }
-
-    /// Radiance arriving along a ray of world direction `d` that leaves the scene (infinite
-    /// emitters only; zero otherwise).
-    pub fn radiance_env(&self, d: Vec3) -> Vec3 {
-        match self {
-            Emitter::Constant(l) => l.radiance,
-            Emitter::EnvMap(l) => l.radiance(d),
-            _ => Vec3::ZERO,
-        }
-    }
-
-    /// Emitted power (flux), the mean of its R, G and B values. Infinite lights count what crosses
-    /// the scene's bounding sphere (see [`set_scene_bounds`](Self::set_scene_bounds)).
-    pub fn power(&self) -> f32 {
-        let rgb = match self {
-            Emitter::Point(l) => l.power(),
-            Emitter::Spot(l) => l.power(),
-            Emitter::Projector(l) => l.power(),
-            Emitter::Directional(l) => l.power(),
-            Emitter::Area(l) => l.power(),
-            Emitter::Constant(l) => l.power(),
-            Emitter::EnvMap(l) => l.power(),
+    /// Radiance leaving the emitter's surface at normal `n`, uv `uv`, toward `w` (unit, away from
+    /// the surface). The default, zero, is that of emitters that are no surface (delta or
+    /// infinite).
+    fn radiance_area(&self, _n: Vec3, _uv: Vec2, _w: Vec3) -> Vec3 {
+        const {
+            assert!(
+                Self::DELTA || Self::INFINITE,
+                "a surface emitter defines radiance_area"
+            )
         };
-        (rgb.x + rgb.y + rgb.z) / 3.0
+        Vec3::ZERO
     }
 
-    pub fn is_delta(&self) -> bool {
-        matches!(
-            self,
-            Emitter::Point(_) | Emitter::Spot(_) | Emitter::Projector(_) | Emitter::Directional(_)
-        )
+    /// Radiance arriving along a ray of world direction `d` that leaves the scene. The default,
+    /// zero, is that of finite emitters and of infinite delta ones (a directional light, which
+    /// no ray hits).
+    fn radiance_env(&self, _d: Vec3) -> Vec3 {
+        const {
+            assert!(
+                !Self::INFINITE || Self::DELTA,
+                "an infinite emitter that is not delta defines radiance_env"
+            )
+        };
+        Vec3::ZERO
     }
 
-    pub fn is_infinite(&self) -> bool {
-        matches!(
-            self,
-            Emitter::Directional(_) | Emitter::Constant(_) | Emitter::EnvMap(_)
-        )
-    }
+    /// Emitted power (flux) per channel, by which the light picker chooses among emitters.
+    /// Infinite lights count what crosses the scene's bounding sphere (see
+    /// [`Self::set_scene_bounds`]).
+    fn power(&self) -> Vec3;
 
-    /// Infinite lights need the scene's bounding sphere for their power.
-    pub fn set_scene_bounds(&mut self, _center: Vec3, radius: f32) {
-        match self {
-            Emitter::Directional(l) => l.scene_radius = radius,
-            Emitter::Constant(l) => l.scene_radius = radius,
-            Emitter::EnvMap(l) => l.scene_radius = radius,
-            _ => {}
-        }
+    /// Tells an infinite light the scene's bounding sphere, which its power needs. The default,
+    /// nothing, is that of finite emitters.
+    fn set_scene_bounds(&mut self, _center: Vec3, _radius: f32) {
+        const {
+            assert!(
+                !Self::INFINITE,
+                "an infinite emitter defines set_scene_bounds"
+            )
+        };
     }
 }
+
+/// The items of `shading::emitter` generated from the emitter list.
+macro_rules! define_emitters {
+    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, light: $light:literal }),* $(,)?) => {
+        $(mod $module;)*
+        $(pub use $module::$Type;)*
+
+        $(const _: () = assert!(
+            crate::accel::same_name(<$Type as EmitterPlugin>::NAME, stringify!($name)),
+            concat!("`", stringify!($Type), "::NAME` must be its name in the emitter list")
+        );)*
+
+        /// A light of the scene: one match per call, then the emitter's own code (no dynamic
+        /// dispatch).
+        #[derive(Clone, Debug)]
+        pub enum Emitter {
+            $($Variant($Type),)*
+        }
+
+        impl Emitter {
+            /// See [`EmitterPlugin::sample_li`].
+            #[inline]
+            pub fn sample_li(&self, p: Vec3, u: Vec2) -> Option<EmitterSample> {
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::sample_li(l, p, u),)*
+                }
+            }
+
+            /// See [`EmitterPlugin::pdf_li`].
+            #[inline]
+            pub fn pdf_li(&self, p: Vec3, wi: Vec3, light_point: Vec3, light_normal: Vec3) -> f32 {
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::pdf_li(l, p, wi, light_point, light_normal),)*
+                }
+            }
+
+            /// See [`EmitterPlugin::radiance_area`]: one-sided as Mitsuba's `area` (zero behind).
+            #[inline]
+            pub fn radiance_area(&self, n: Vec3, uv: Vec2, w: Vec3) -> Vec3 {
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::radiance_area(l, n, uv, w),)*
+                }
+            }
+
+            /// See [`EmitterPlugin::radiance_env`].
+            #[inline]
+            pub fn radiance_env(&self, d: Vec3) -> Vec3 {
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::radiance_env(l, d),)*
+                }
+            }
+
+            /// Emitted power (flux), the mean of its R, G and B values.
+            pub fn power(&self) -> f32 {
+                let rgb = match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::power(l),)*
+                };
+                (rgb.x + rgb.y + rgb.z) / 3.0
+            }
+
+            pub fn is_delta(&self) -> bool {
+                match self {
+                    $(Emitter::$Variant(_) => <$Type as EmitterPlugin>::DELTA,)*
+                }
+            }
+
+            pub fn is_infinite(&self) -> bool {
+                match self {
+                    $(Emitter::$Variant(_) => <$Type as EmitterPlugin>::INFINITE,)*
+                }
+            }
+
+            /// Its name in the registry.
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Emitter::$Variant(_) => <$Type as EmitterPlugin>::NAME,)*
+                }
+            }
+
+            /// See [`EmitterPlugin::set_scene_bounds`].
+            pub fn set_scene_bounds(&mut self, center: Vec3, radius: f32) {
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::set_scene_bounds(l, center, radius),)*
+                }
+            }
+        }
+    };
+}
+crate::description::for_each_emitter!(define_emitters);

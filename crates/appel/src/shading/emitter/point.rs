@@ -33,3 +33,18 @@ impl PointLight {
         4.0 * PI * self.intensity
     }
 }
+
+impl super::EmitterPlugin for PointLight {
+    const NAME: &'static str = "point";
+    const DELTA: bool = true;
+    const INFINITE: bool = false;
+
+    #[inline]
+    fn sample_li(&self, p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
+        PointLight::sample_li(self, p)
+    }
+
+    fn power(&self) -> glam::Vec3 {
+        PointLight::power(self)
+    }
+}

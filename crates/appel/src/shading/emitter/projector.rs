@@ -90,6 +90,21 @@ impl Projector {
     }
 }
 
+impl super::EmitterPlugin for Projector {
+    const NAME: &'static str = "projector";
+    const DELTA: bool = true;
+    const INFINITE: bool = false;
+
+    #[inline]
+    fn sample_li(&self, p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
+        Projector::sample_li(self, p)
+    }
+
+    fn power(&self) -> glam::Vec3 {
+        Projector::power(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

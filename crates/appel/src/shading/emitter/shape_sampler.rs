@@ -32,8 +32,8 @@ pub struct DirectionSample {
 #[derive(Clone, Debug)]
 pub struct TriangleSet {
     positions: Vec<[Vec3; 3]>,
-    /// Each triangle's unit geometric normal, computed once: every light sample needs it, and its
-    /// cross product and square root were a tenth of a light sample's instructions.
+    /// Each triangle's unit geometric normal, computed once: every light sample needs it, and a
+    /// cross product and a square root per sample would repeat the same work.
     normals: Vec<Vec3>,
     uvs: Option<Vec<[Vec2; 3]>>,
     by_area: Distribution1D,

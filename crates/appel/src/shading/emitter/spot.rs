@@ -124,6 +124,21 @@ impl SpotLight {
     }
 }
 
+impl super::EmitterPlugin for SpotLight {
+    const NAME: &'static str = "spot";
+    const DELTA: bool = true;
+    const INFINITE: bool = false;
+
+    #[inline]
+    fn sample_li(&self, p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
+        SpotLight::sample_li(self, p)
+    }
+
+    fn power(&self) -> glam::Vec3 {
+        SpotLight::power(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

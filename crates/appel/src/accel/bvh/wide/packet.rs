@@ -37,9 +37,9 @@ pub const PACKET: usize = 8;
 #[cfg(target_arch = "x86_64")]
 const STACK: usize = 128;
 
-/// A subtree reached by fewer active rays than this is traversed ray by ray (measured with
-/// callgrind on the bunny's camera rays and a 10^5-triangle soup: 3 needs 1.6% and 5.6% fewer
-/// instructions than never splitting, 2 and 5 fewer than never but more than 3).
+/// A subtree reached by fewer active rays than this is traversed ray by ray: for one or two rays
+/// the packet's eight-lane tests cost more than single-ray ones, while a higher threshold gives
+/// up sharing that still pays (docs/performance.md records the sweep).
 #[cfg(target_arch = "x86_64")]
 const SHARED: u32 = 3;
 

@@ -154,8 +154,7 @@ unsafe fn slabs8_avx(bounds: *const f32, r: &RayBoxes, t_cull: f32, dist: *mut f
 
 /// What a tree's leaves hold, the traversal's `LEAVES` parameter, so that each kind of tree runs
 /// code with no test for the others: triangle blocks (and called-back primitives) only. A test for
-/// pairs at every leaf visit cost 2.7% more instructions on the bunny's camera rays (`KD_BVH=1
-/// KD_PROFILE=camera` callgrind of `examples/kd_tune`, 470.6 against 458.2 per ray).
+/// pairs at every leaf visit would be paid by every ray through a tree without pairs.
 pub(super) const BLOCKS: u8 = 0;
 /// Compact leaves: primitive ids, their vertices fetched at each visit.
 pub(super) const COMPACT: u8 = 1;
@@ -223,16 +222,15 @@ impl<const W: usize> WideBvh<W> {
     ) -> Option<Hit> {
         stats.rays += 1;
         // One branch on the way decided at the build, rather than a test per condition (each
-        // cost instructions on every ray: the Whitted frame's rays are a few hundred each).
+        // would cost instructions on every ray, a real share of a ray through a small scene).
         match self.path {
             Path::Empty => None,
             Path::RootLeaf(leaf) => {
                 self.traverse_root_leaf::<P, ANY>(leaf, prims, ray, t_max, stats)
             }
             // SAFETY (both): the builder chose these paths after detecting AVX2. One function per
-            // kind of leaves: with both kinds' traversals inlined into one, its entry saved more
-            // registers and camera rays through trees without pairs took 2-3% more instructions
-            // (bunny, callgrind).
+            // kind of leaves: with both kinds' traversals inlined into one, its entry saves more
+            // registers, which every ray through a tree without pairs would pay for.
             #[cfg(target_arch = "x86_64")]
             Path::Avx2Blocks => unsafe {
                 self.traverse_avx2::<P, ANY, BLOCKS>(prims, ray, t_max, stats)
@@ -283,7 +281,7 @@ impl<const W: usize> WideBvh<W> {
         if leaf & node::NO_TRIANGLES != 0 {
             // Spheres, rectangles and the like: a loop of calls, kept apart from the triangle
             // filter's set-up, whose registers and stack frame would otherwise be paid for on every
-            // ray (Whitted's scene: 145M of 1,110M instructions per frame were this function).
+            // ray.
             let (first, count) = node::leaf_range(leaf);
             stats.prim_tests += count as u64;
             if count == prims.count() {
@@ -419,8 +417,7 @@ impl<const W: usize> WideBvh<W> {
             }
             // The kept lanes get the scalar test through `prims` (the filter's values are not
             // reused here): the same hits bit for bit, and no second copy of the finishing code
-            // beside the usual leaf test's, which the compiler then stopped inlining there
-            // (traversal instructions +1.4% on the bunny, callgrind).
+            // beside the usual leaf test's, which the compiler would then stop inlining there.
             let pair = &ids[at..at + step];
             at += step;
             while m != 0 {
@@ -459,8 +456,8 @@ impl<const W: usize> WideBvh<W> {
     }
 
     /// Picks a stack just large enough for the tree's depth. Compact leaves take the other
-    /// function too, so that the usual one has no trace of them (with a test per leaf visit, its
-    /// instructions rose 5%: callgrind, bunny); a tree without pairs of triangles takes an
+    /// function too, so that the usual one has no trace of them (a test per leaf visit would be
+    /// paid by every ray); a tree without pairs of triangles takes an
     /// instance that does not test for them ([`LEAVES`](BLOCKS)).
     #[inline(always)]
     pub(super) fn traverse_sized<P: Primitives, const ANY: bool, const AVX: bool>(
@@ -566,8 +563,8 @@ impl<const W: usize> WideBvh<W> {
         let mut cur: Child = start;
         // Pushes the children of node `$n` in `$mask`, in lane order, with their entry distances;
         // in large trees it asks for each to be brought into the cache meanwhile. (A macro: as an
-        // inlined method taking the stack and its pointer, the traversal took 2-5% more
-        // instructions per ray.)
+        // inlined method taking the stack and its pointer, the compiler keeps less of the
+        // traversal's state in registers.)
         macro_rules! push_children {
             ($n:expr, $mask:expr) => {{
                 let mut m: u32 = $mask;
@@ -614,8 +611,8 @@ impl<const W: usize> WideBvh<W> {
                     }
                     if ANY {
                         // Any hit at all ends an any-hit query, so the children go unsorted
-                        // (measured: shadow rays 7-8% faster on the ogre and a 1.3M-triangle
-                        // mesh): the last one hit is visited next, the others wait.
+                        // (sorting would only delay the first hit): the last one hit is visited
+                        // next, the others wait.
                         let last = (31 - mask.leading_zeros()) as usize & (W - 1);
                         push_children!(n, mask & !(1 << last));
                         cur = n.child[last];

@@ -133,8 +133,7 @@ macro_rules! filter {
         let any_pos = or(or(gt(e0, zero), gt(e1, zero)), gt(e2, zero));
         let inside = or(any_zero, not(and(any_neg, any_pos)));
         // Most blocks a ray reaches miss it in every lane: stop before the distance test and
-        // the stores (cachegrind, the ogre's incoherent rays through the BVH: 6% fewer
-        // instructions, but 40% more mispredicted branches; the same wall-clock time there).
+        // the stores (fewer instructions, at the price of a branch that is harder to predict).
         if mask(inside) == 0 {
             return 0;
         }
@@ -164,9 +163,8 @@ macro_rules! filter {
 
 /// The filter's intermediate values of up to eight lanes: rows 0-2 the sheared `x` of the three
 /// vertices, 3-5 their `y`, 6-8 their scaled `z`, 9-11 the edge functions. Left uninitialised
-/// until the filter writes them: zeroing its 384 bytes at every leaf cost 30 instructions per
-/// incoherent ray (callgrind, the bunny through the BVH), and only the lanes the filter kept are
-/// read, after it has written every row.
+/// until the filter writes them: zeroing its 384 bytes at every leaf would cost every ray, and only
+/// the lanes the filter kept are read, after it has written every row.
 #[derive(Clone, Copy)]
 pub struct LaneValues {
     r: [[MaybeUninit<f32>; 8]; 12],

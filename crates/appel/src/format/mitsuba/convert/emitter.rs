@@ -12,8 +12,6 @@ use crate::description::{AreaEmitterDesc, LightDesc, TextureDesc, TransformDesc}
 use crate::error::Result;
 use glam::DVec3;
 
-const EMITTERS: &str = "point, spot, projector, directional, constant, envmap (and area on shapes)";
-
 impl Converter<'_> {
     pub(super) fn light(&mut self, e: &Object) -> Result<()> {
         let color = |name: &str| -> Result<[f32; 3]> {
@@ -118,7 +116,8 @@ impl Converter<'_> {
             "area" => return Err(e.error("an area emitter belongs inside a <shape>")),
             p => {
                 return Err(e.error(format!(
-                    "unsupported emitter plugin \"{p}\" (supported: {EMITTERS})"
+                    "unsupported emitter plugin \"{p}\" (supported: {}; area on shapes)",
+                    crate::description::light_names()
                 )))
             }
         };

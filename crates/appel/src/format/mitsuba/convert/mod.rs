@@ -15,8 +15,8 @@ use super::document::{Document, Object, Target};
 use super::transform::to_rows;
 use crate::description::origins::{key_path, Origin, Origins};
 use crate::description::{
-    CameraDesc, CameraKind, Description, FilterDesc, FovAxis, IntegratorName, MaterialDesc,
-    RenderDesc, SamplerName,
+    AovParams, CameraDesc, CameraKind, Description, FilterDesc, FovAxis, IntegratorName,
+    MaterialDesc, RenderDesc, SamplerName,
 };
 use crate::error::Result;
 use glam::{DMat4, DVec3};
@@ -278,6 +278,9 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             i.finish()?;
             return integrator_desc(inner);
         }
+        // Named outputs of the surface each pixel sees, around an optional nested integrator
+        // whose image the film holds.
+        "aov" => return aov_integrator_desc(i),
         "path" => {
             r.integrator = IntegratorName::Path;
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
@@ -290,12 +293,69 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
         }
         p => {
             return Err(i.error(format!(
-                "unsupported integrator plugin \"{p}\" (supported: path, direct, moment)"
+                "unsupported integrator plugin \"{p}\" (supported: path, direct, aov, moment)"
             )))
         }
     }
     r.hide_emitters = i.bool_or("hide_emitters", false)?;
     i.finish()?;
+    Ok(r)
+}
+
+/// Mitsuba's `aov`: its `aovs` list, and at most one nested integrator, which renders the image
+/// and gives `[render]` its settings. Mitsuba names an unnamed nested object `_arg_N` (N counting
+/// the element's unnamed children), and its image's channels after that name.
+fn aov_integrator_desc(i: &Object) -> Result<RenderDesc> {
+    let Some(aovs) = i.string("aovs")? else {
+        return Err(
+            i.error("the aov integrator needs <string name=\"aovs\" value=\"NAME:TYPE,...\"/>")
+        );
+    };
+    let mut params = AovParams {
+        aovs: aovs.to_string(),
+        ..AovParams::default()
+    };
+    let prop = i.prop("aovs").expect("read above");
+    params.channels().map_err(|e| prop.error(e))?;
+    let mut nested = i.children.iter();
+    let mut r = match (nested.next(), nested.next()) {
+        (None, _) => RenderDesc {
+            hide_emitters: i.bool_or("hide_emitters", false)?,
+            ..RenderDesc::default()
+        },
+        (Some(child), None) => {
+            i.take(child);
+            let Target::Object(inner) = &child.target else {
+                return Err(child
+                    .loc
+                    .error("nest the <integrator> rather than referencing it"));
+            };
+            if inner.class != "integrator" {
+                return Err(child.loc.error(format!(
+                    "the aov integrator nests integrators, not a <{}>",
+                    inner.class
+                )));
+            }
+            let r = integrator_desc(inner)?;
+            if r.integrator == IntegratorName::Aov {
+                return Err(child
+                    .loc
+                    .error("the nested integrator must compute an image, not be another aov"));
+            }
+            params.integrator = Some(r.integrator);
+            params.image = Some(child.name.clone().unwrap_or_else(|| "_arg_0".into()));
+            params.channels().map_err(|e| prop.error(e))?;
+            r
+        }
+        (Some(_), Some(second)) => {
+            return Err(second
+                .loc
+                .error("Appel's aov integrator takes one nested integrator"))
+        }
+    };
+    i.finish()?;
+    r.integrator = IntegratorName::Aov;
+    r.aov = Some(params);
     Ok(r)
 }
 

@@ -9,25 +9,17 @@ use crate::description::validate;
 use crate::description::*;
 use std::path::{Path, PathBuf};
 
-fn shared(rel: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data")
-        .join(rel);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!("skipped: {} not found", p.display());
-        None
-    }
+fn shared(rel: &str) -> PathBuf {
+    appel_testdata::path(rel)
 }
 
 const SCENES: &str = "mitsuba-data/tests/scenes";
 
-fn load(rel: &str) -> Option<Description> {
-    let path = shared(rel)?;
+fn load(rel: &str) -> Description {
+    let path = shared(rel);
     let d = load_xml(&path, &XmlOptions::default()).unwrap_or_else(|e| panic!("{rel}: {e}"));
     validate::validate(&d).unwrap_or_else(|e| panic!("{rel}: {e:?}"));
-    Some(d)
+    d
 }
 
 fn close(a: &[f32], b: &[f32], tol: f32) -> bool {
@@ -43,6 +35,7 @@ fn rgb(t: &TextureDesc) -> [f32; 3] {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn every_scene_with_supported_plugins_converts() {
     for rel in [
         "floating_sphere/test_directional_direct.xml",
@@ -68,9 +61,7 @@ fn every_scene_with_supported_plugins_converts() {
         "mesh_attributes/test_mesh_attributes_3_face_direct.xml",
         "mesh_attributes/test_mesh_attributes_3_vertex_direct.xml",
     ] {
-        let Some(d) = load(&format!("{SCENES}/{rel}")) else {
-            return;
-        };
+        let d = load(&format!("{SCENES}/{rel}"));
         assert!(!d.shapes.is_empty() || !d.instances.is_empty(), "{rel}");
         for s in &d.shapes {
             if let ShapeDesc::Mesh(MeshShapeDesc { file: f, .. }) = s {
@@ -104,12 +95,11 @@ fn plugins_appel_lacks_fail_at_their_line() {
 /// various_shapes: the cylinder keeps its transform, the serialized mesh is a mesh file, and the
 /// sdfgrid inside a shapegroup becomes one shape per instance with the composed transform.
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn various_shapes_converts_every_shape() {
-    let Some(d) = load(&format!(
+    let d = load(&format!(
         "{SCENES}/various_shapes/test_various_shapes_path.xml"
-    )) else {
-        return;
-    };
+    ));
     let kinds: Vec<&str> = d
         .shapes
         .iter()
@@ -163,10 +153,9 @@ fn various_shapes_converts_every_shape() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn cornell_box() {
-    let Some(d) = load("bitterli-scenes/cornell-box/mitsuba/scene_v3.xml") else {
-        return;
-    };
+    let d = load("bitterli-scenes/cornell-box/mitsuba/scene_v3.xml");
     let c = &d.camera;
     assert_eq!(c.kind, CameraKind::Perspective);
     assert!(close(&c.eye, &[0.0, 1.0, 6.8], 1e-6), "{c:?}");
@@ -212,7 +201,7 @@ fn cornell_box() {
     assert_eq!(rgb(&front.reflectance), [0.63, 0.065, 0.05]);
 
     // -D overrides the file's defaults.
-    let path = shared("bitterli-scenes/cornell-box/mitsuba/scene_v3.xml").unwrap();
+    let path = shared("bitterli-scenes/cornell-box/mitsuba/scene_v3.xml");
     let options = XmlOptions {
         params: vec![("spp".into(), "8".into()), ("resx".into(), "64".into())],
     };
@@ -224,12 +213,11 @@ fn cornell_box() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn floating_sphere_and_mirrors() {
-    let Some(d) = load(&format!(
+    let d = load(&format!(
         "{SCENES}/floating_sphere/test_directional_direct.xml"
-    )) else {
-        return;
-    };
+    ));
     // `moment` is read through to the nested integrator, chosen by `$integrator`.
     assert_eq!(d.render.integrator, IntegratorName::Direct);
     assert_eq!((d.render.spp, d.camera.width), (32, 48));
@@ -252,9 +240,7 @@ fn floating_sphere_and_mirrors() {
     assert_eq!(d.shapes[0].material(), Some("diffuse_bsdf"));
     assert_eq!(d.shapes[1].material(), d.shapes[0].material());
 
-    let Some(d) = load(&format!("{SCENES}/infinite_mirrors/scene_path.xml")) else {
-        return;
-    };
+    let d = load(&format!("{SCENES}/infinite_mirrors/scene_path.xml"));
     assert_eq!((d.render.max_depth, d.render.spp), (8, 64));
     assert_eq!(d.camera.near_clip, 1.0);
     let MaterialDesc::Conductor(c) = &d.materials[d.shapes[0].material().unwrap()] else {
@@ -271,10 +257,9 @@ fn floating_sphere_and_mirrors() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn instancing() {
-    let Some(d) = load(&format!("{SCENES}/instancing/test_instancing_path.xml")) else {
-        return;
-    };
+    let d = load(&format!("{SCENES}/instancing/test_instancing_path.xml"));
     // The group's mesh is declared once and placed three times; its sphere and rectangle are
     // added per instance.
     assert_eq!(d.meshes.len(), 1);
@@ -311,10 +296,9 @@ fn instancing() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn bsdf_spheres_parameters() {
-    let Some(d) = load(&format!("{SCENES}/bsdf_spheres/test_arealight_path.xml")) else {
-        return;
-    };
+    let d = load(&format!("{SCENES}/bsdf_spheres/test_arealight_path.xml"));
     // Spectra as Mitsuba 3.9.1's scalar_rgb makes them (its Python module, `mi.traverse`).
     let lamp = d.shapes.iter().find_map(|s| s.emitter()).unwrap();
     let radiance = rgb(&lamp.radiance);
@@ -341,11 +325,9 @@ fn bsdf_spheres_parameters() {
         MaterialDesc::TwoSided(_)
     ));
 
-    let Some(d) = load(&format!(
+    let d = load(&format!(
         "{SCENES}/bsdf_spheres/test_roughdielectric_path.xml"
-    )) else {
-        return;
-    };
+    ));
     let MaterialDesc::RoughDielectric(g) = &d.materials["roughdielectric"] else {
         panic!("{:?}", d.materials)
     };
@@ -353,11 +335,9 @@ fn bsdf_spheres_parameters() {
     assert_eq!(g.alpha, Some(TextureDesc::Value(0.02)));
     assert_eq!(g.distribution, DistributionDesc::Beckmann);
 
-    let Some(d) = load(&format!(
+    let d = load(&format!(
         "{SCENES}/bsdf_spheres/test_textured_roughconductor_path.xml"
-    )) else {
-        return;
-    };
+    ));
     let MaterialDesc::RoughConductor(m) = &d.materials["roughconductor"] else {
         panic!("{:?}", d.materials)
     };
@@ -371,11 +351,9 @@ fn bsdf_spheres_parameters() {
         }))
     );
 
-    let Some(d) = load(&format!(
+    let d = load(&format!(
         "{SCENES}/bsdf_spheres/test_textured_diffuse_path.xml"
-    )) else {
-        return;
-    };
+    ));
     let MaterialDesc::Diffuse(w) = &d.materials["diffuse"] else {
         panic!("{:?}", d.materials.keys())
     };
@@ -513,10 +491,9 @@ fn defaults_of_a_minimal_scene_are_mitsubas() {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn load_description_reads_xml_by_extension() {
-    let Some(path) = shared(&format!("{SCENES}/instancing/test_instancing_path.xml")) else {
-        return;
-    };
+    let path = shared(&format!("{SCENES}/instancing/test_instancing_path.xml"));
     let loaded = crate::format::load(&path, &Default::default()).unwrap();
     assert_eq!(loaded.description.instances.len(), 3);
     let dir = tempfile::tempdir().unwrap();

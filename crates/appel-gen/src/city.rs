@@ -3,8 +3,8 @@
 //! sun's shadows in the reveals draw the windows without any texture.
 
 use super::builder::MeshBuilder;
-use crate::geometry::procedural::SplitMix64;
-use crate::math::Vec3;
+use appel::geometry::procedural::SplitMix64;
+use appel::math::Vec3;
 
 /// Width and height of one window cell of a facade, in metres.
 const CELL_W: f32 = 3.0;

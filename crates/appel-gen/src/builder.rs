@@ -1,8 +1,8 @@
 //! Appending shapes to a growing triangle mesh: tubes along a path, leaf blades, quads. The
 //! procedural plants, terrain and city are made of these.
 
-use crate::geometry::TriangleMesh;
-use crate::math::{orthonormal_basis, Vec3};
+use appel::geometry::TriangleMesh;
+use appel::math::{orthonormal_basis, Vec3};
 
 #[derive(Clone, Debug, Default)]
 pub struct MeshBuilder {

@@ -5,9 +5,9 @@
 
 use appel::description::animation::at_frame;
 use appel::description::Description;
-use appel::gen::{cloth_scene, GenOptions};
 use appel::render::{render, Film, RenderOptions};
 use appel::scene::{Scene, Sequence};
+use appel_gen::{cloth_scene, GenOptions};
 use std::path::Path;
 
 fn image(scene: &Scene) -> Film {

@@ -1,8 +1,10 @@
 //! The measurement behind `appel bench`: for each acceleration structure, build time and memory, and
 //! closest-hit throughput on the scene's camera rays and on incoherent rays, with one thread and with
-//! all of them; and the same figures for Embree on the same rays ([`embree`]).
+//! all of them; and the same figures for Embree on the same rays ([`embree`]); and frames per
+//! second of whole renders ([`frames`]).
 
 mod embree;
+pub mod frames;
 mod pairing;
 mod path_rays;
 pub mod rss;
@@ -10,12 +12,12 @@ pub use embree::{bench_embree, flat_triangles, EmbreeBenchOptions, FlatTriangles
 pub use pairing::{bench_pairings, embree_robust_for, Pairing};
 pub use path_rays::path_rays;
 
-use crate::accel::{Accel, AccelKind, AccelOptions, TraversalStats};
-use crate::description::CameraDesc;
-use crate::geometry::procedural::{append, icosphere, scattered_triangles, stadium, SplitMix64};
-use crate::geometry::TriangleMesh;
-use crate::math::{offset_ray_origin, orthonormal_basis, Aabb, Ray, Vec3};
-use crate::scene::{Camera, Geometry};
+use appel::accel::{Accel, AccelKind, AccelOptions, TraversalStats};
+use appel::description::CameraDesc;
+use appel::geometry::procedural::{scattered_triangles, teapot_in_stadium, SplitMix64};
+use appel::geometry::TriangleMesh;
+use appel::math::{offset_ray_origin, orthonormal_basis, Aabb, Ray, Vec3};
+use appel::scene::{Camera, Geometry};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -50,18 +52,11 @@ pub fn bench_scene(name: &str, triangles: usize, width: u32, height: u32) -> Opt
             let mesh = scattered_triangles(n, Vec3::splat(-1.0), Vec3::splat(1.0), size, 7);
             (mesh, Vec3::new(0.3, 0.4, 3.5), Vec3::ZERO)
         }
-        "teapot-in-stadium" => {
-            // The "teapot": an icosphere of radius 1 standing on the field; the stadium: radius 1000.
-            let subdivisions =
-                ((triangles.max(20) as f64 / 20.0).log(4.0).round() as u32).clamp(1, 9);
-            let mut teapot = icosphere(subdivisions);
-            for p in &mut teapot.positions {
-                *p += Vec3::Y;
-            }
-            let mut mesh = stadium(1000.0, 64, 8);
-            append(&mut mesh, &teapot);
-            (mesh, Vec3::new(2.5, 2.2, 3.5), Vec3::Y)
-        }
+        "teapot-in-stadium" => (
+            teapot_in_stadium(triangles),
+            Vec3::new(2.5, 2.2, 3.5),
+            Vec3::Y,
+        ),
         _ => return None,
     };
     let mut geometry = Geometry::default();
@@ -397,9 +392,9 @@ pub fn bench_accel(
     };
     // Packets of eight consecutive pixels, as Embree's `rtcIntersect8` is measured; only the BVH
     // has a packet path (every other structure would just loop over single rays).
-    let packets: Vec<&[Ray]> = primary.chunks(crate::accel::bvh::PACKET).collect();
+    let packets: Vec<&[Ray]> = primary.chunks(appel::accel::bvh::PACKET).collect();
     let packet = |p: &&[Ray]| {
-        let mut out = [None; crate::accel::bvh::PACKET];
+        let mut out = [None; appel::accel::bvh::PACKET];
         let mut stats = TraversalStats::default();
         accel.intersect_packet(g, p, f32::INFINITY, &mut out, &mut stats);
         out.iter().filter(|h| h.is_some()).count()
@@ -410,11 +405,11 @@ pub fn bench_accel(
             throughput(
                 pool,
                 &packets,
-                crate::accel::bvh::PACKET,
+                appel::accel::bvh::PACKET,
                 trace_runs,
                 packet,
             ) * primary.len() as f64
-                / (crate::accel::bvh::PACKET * packets.len()).max(1) as f64
+                / (appel::accel::bvh::PACKET * packets.len()).max(1) as f64
         })
     };
     let mismatches = is_bvh.then(|| {
@@ -422,7 +417,7 @@ pub fn bench_accel(
         packets
             .iter()
             .map(|p| {
-                let mut out = [None; crate::accel::bvh::PACKET];
+                let mut out = [None; appel::accel::bvh::PACKET];
                 accel.intersect_packet(g, p, f32::INFINITY, &mut out, &mut stats);
                 p.iter()
                     .zip(out)

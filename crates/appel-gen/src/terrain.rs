@@ -2,7 +2,7 @@
 
 use super::builder::MeshBuilder;
 use super::noise::fbm;
-use crate::math::Vec3;
+use appel::math::Vec3;
 
 #[derive(Clone, Debug)]
 pub struct Terrain {

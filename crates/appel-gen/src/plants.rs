@@ -6,8 +6,8 @@
 //! are added until the species' triangle budget is spent.
 
 use super::builder::MeshBuilder;
-use crate::geometry::procedural::SplitMix64;
-use crate::math::{orthonormal_basis, Vec3};
+use appel::geometry::procedural::SplitMix64;
+use appel::math::{orthonormal_basis, Vec3};
 
 const GOLDEN_ANGLE: f32 = 2.399_963;
 /// Leaves (or blades, leaflets) every plant gets even when its wood used up the budget.

@@ -1,5 +1,5 @@
 //! `appel gen`: large reproducible scenes for measuring Appel at scale (issue 5). Everything comes
-//! from one seed through [`SplitMix64`](crate::geometry::procedural::SplitMix64) and integer-hashed
+//! from one seed through [`SplitMix64`](appel::geometry::procedural::SplitMix64) and integer-hashed
 //! noise, so the same seed gives the same bytes on every machine.
 //!
 //! - `ecosystem`: a terrain and a forest of instanced plants, one scene file, binary PLY meshes and
@@ -18,7 +18,7 @@ pub use builder::MeshBuilder;
 pub use cloth::cloth_scene;
 pub use ecosystem::{ecosystem, species_list, Species};
 
-use crate::error::{Error, Result};
+use appel::error::{Error, Result};
 use std::path::Path;
 
 /// What a generator is asked for.
@@ -67,7 +67,7 @@ pub fn city_scene(
     let mesh = mesh.into_mesh();
     let triangles = mesh.triangle_count() as u64;
     step(&format!("writing city.ply ({triangles} triangles)"))?;
-    crate::output::write_ply(&dir.join("city.ply"), &[(0, &mesh)])?;
+    appel::output::write_ply(&dir.join("city.ply"), &[(0, &mesh)])?;
     drop(mesh);
     let e = extent;
     let scene = format!(
@@ -123,7 +123,7 @@ intensity = 1.1
         size = 2.2 * e,
     );
     step("writing city.toml")?;
-    crate::output::write_atomically(&dir.join("city.toml"), |out| {
+    appel::output::write_atomically(&dir.join("city.toml"), |out| {
         use std::io::Write;
         out.write_all(scene.as_bytes())
             .map_err(|e| Error::io(dir.join("city.toml"), e))

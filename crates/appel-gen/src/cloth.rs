@@ -3,9 +3,9 @@
 //! instances: the top level over them is rebuilt each frame).
 
 use super::{GenOptions, GenReport};
-use crate::error::Result;
-use crate::geometry::TriangleMesh;
-use crate::math::Vec3;
+use appel::error::Result;
+use appel::geometry::TriangleMesh;
+use appel::math::Vec3;
 use std::f32::consts::TAU;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -87,12 +87,12 @@ pub fn cloth_scene(
     for frame in 0..FRAMES {
         let mesh = flag(n, frame as f32 / FPS);
         let name = format!("wave_{frame:04}.ply");
-        crate::output::write_ply(&dir.join(&name), &[(0, &mesh)])?;
+        appel::output::write_ply(&dir.join(&name), &[(0, &mesh)])?;
         report.unique_triangles += mesh.triangle_count() as u64;
         files.push(name);
     }
     let b = bird();
-    crate::output::write_ply(&dir.join("bird.ply"), &[(0, &b)])?;
+    appel::output::write_ply(&dir.join("bird.ply"), &[(0, &b)])?;
     report.unique_triangles += b.triangle_count() as u64;
     report.instances = BIRDS as u64 + 1;
     report.instanced_triangles = (2 * n * n) as u64 + (BIRDS * b.triangle_count()) as u64;
@@ -198,10 +198,10 @@ intensity = 60.0
         scene.push_str("]\n");
     }
     step("writing cloth.toml")?;
-    crate::output::write_atomically(&dir.join("cloth.toml"), |out| {
+    appel::output::write_atomically(&dir.join("cloth.toml"), |out| {
         use std::io::Write;
         out.write_all(scene.as_bytes())
-            .map_err(|e| crate::error::Error::io(dir.join("cloth.toml"), e))
+            .map_err(|e| appel::error::Error::io(dir.join("cloth.toml"), e))
     })?;
     report.files = files;
     Ok(report)

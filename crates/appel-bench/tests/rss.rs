@@ -2,7 +2,7 @@
 //! resident size are the whole process's, so other tests allocating in parallel threads would
 //! disturb it.
 
-use appel::bench::rss::{current_bytes, peak_bytes, reset_peak};
+use appel_bench::rss::{current_bytes, peak_bytes, reset_peak};
 
 #[test]
 fn a_reset_peak_sees_a_later_allocation_and_not_an_earlier_one() {

@@ -2,7 +2,7 @@
 //! its statistics and SAH cost, and the build time: for checking that a change to the builder
 //! leaves the tree bit for bit as it was.
 //!
-//! `cargo run --release -p appel --example bvh_tree_check -- [scene] [triangles] [builds] [block]`
+//! `cargo run --release -p appel-bench --example bvh_tree_check -- [scene] [triangles] [builds] [block]`
 //! (block 4, the default, is the tree the wide layouts collapse; block 1 the binary layout's).
 
 use appel::accel::{Bvh, BvhOptions};
@@ -16,7 +16,7 @@ fn main() {
     let builds: usize = args.get(3).map_or(1, |s| s.parse().unwrap());
     // The binary tree the wide layouts collapse is built with blocks of 4: `block 4` gives it.
     let block: usize = args.get(4).map_or(4, |s| s.parse().unwrap());
-    let t = appel::bench::bench_scene(scene, n, 16, 16).expect("scene");
+    let t = appel_bench::bench_scene(scene, n, 16, 16).expect("scene");
     let opts = BvhOptions {
         width: 2,
         block,

@@ -2,9 +2,9 @@
 //! the peer issue 4 and issue 6 measure against. Embree is loaded at run time (`embree-peer`).
 
 use super::{median, pools, throughput, BenchOptions, BenchRays, BenchResult, BenchTarget};
-use crate::accel::{Accel, AccelKind, TraversalStats};
-use crate::math::Ray;
-use crate::scene::{Geometry, ShapeKind};
+use appel::accel::{Accel, AccelKind, TraversalStats};
+use appel::math::Ray;
+use appel::scene::{Geometry, ShapeKind};
 use embree_peer::{BuildQuality, Embree, EmbreeHit, TriangleScene};
 
 #[derive(Clone, Copy, Debug)]

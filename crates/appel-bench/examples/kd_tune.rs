@@ -1,4 +1,4 @@
-//! Tuning the kd-tree: `cargo run --release -p appel --example kd_tune -- MESH [ISECT_COST EMPTY_BONUS MAX_PRIMS DEPTH_ADD MAX_BAD]...`
+//! Tuning the kd-tree: `cargo run --release -p appel-bench --example kd_tune -- MESH [ISECT_COST EMPTY_BONUS MAX_PRIMS DEPTH_ADD MAX_BAD]...`
 //! (MESH may also name a built-in benchmark scene, of `KD_TRIANGLES` triangles)
 //! builds the kd-tree over a mesh file with each option set (and the BVH for reference) and prints
 //! build time, bytes, and 1-thread Mrays/s on the camera, incoherent and shadow rays of `appel bench`.
@@ -8,8 +8,8 @@
 //! `valgrind --tool=callgrind` or `--tool=cachegrind --branch-sim=yes`.
 
 use appel::accel::{Accel, AccelKind, KdOptions, KdTree, TraversalStats};
-use appel::bench::{bench_scene, throughput, BenchRays, BenchTarget};
 use appel::scene::{frame_model, model_description, Scene};
+use appel_bench::{bench_scene, throughput, BenchRays, BenchTarget};
 use std::path::Path;
 use std::time::Instant;
 

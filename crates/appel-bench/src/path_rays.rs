@@ -3,10 +3,10 @@
 //! camera, which is the traffic a path tracer (`integrator = "path"`) sends after its first bounce.
 
 use super::BenchTarget;
-use crate::accel::{Accel, TraversalStats};
-use crate::geometry::procedural::SplitMix64;
-use crate::math::{offset_ray_origin, orthonormal_basis, Ray, Vec2};
-use crate::shading::bsdf::warp::square_to_cosine_hemisphere;
+use appel::accel::{Accel, TraversalStats};
+use appel::geometry::procedural::SplitMix64;
+use appel::math::{offset_ray_origin, orthonormal_basis, Ray, Vec2};
+use appel::shading::bsdf::warp::square_to_cosine_hemisphere;
 
 /// The bounces a walk keeps: each camera hit gives the ray of bounce 2, 3 or 4 in turn (bounce 1
 /// being the incoherent kind), so there are at most as many path rays as camera rays, evenly
@@ -46,8 +46,8 @@ pub fn path_rays(target: &BenchTarget, accel: &Accel, primary: &[Ray]) -> Vec<Ra
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::AccelKind;
-    use crate::bench::bench_scene;
+    use crate::bench_scene;
+    use appel::accel::AccelKind;
 
     /// In a closed room every walk reaches its kept bounce, the rays leave from the room's
     /// surfaces, and they point every which way: their mean direction is near zero, where camera
@@ -56,16 +56,16 @@ mod tests {
     fn walks_reach_their_bounce_and_scatter() {
         let target = bench_scene("teapot-in-stadium", 2000, 40, 30).unwrap();
         let accel = Accel::build(AccelKind::Bvh, &target.geometry);
-        let primary = crate::bench::camera_rays(&target.camera);
+        let primary = crate::camera_rays(&target.camera);
         let rays = path_rays(&target, &accel, &primary);
         assert!(!rays.is_empty() && rays.len() <= primary.len());
-        let mean = rays.iter().map(|r| r.dir).sum::<crate::math::Vec3>() / rays.len() as f32;
+        let mean = rays.iter().map(|r| r.dir).sum::<appel::math::Vec3>() / rays.len() as f32;
         let camera_mean =
-            primary.iter().map(|r| r.dir).sum::<crate::math::Vec3>() / primary.len() as f32;
+            primary.iter().map(|r| r.dir).sum::<appel::math::Vec3>() / primary.len() as f32;
         assert!(camera_mean.length() > 0.9, "{camera_mean}");
         assert!(mean.length() < 0.5, "{mean}");
         let bounds = target.geometry.bounds();
-        let spread = crate::math::Aabb::from_points(rays.iter().map(|r| r.origin));
+        let spread = appel::math::Aabb::from_points(rays.iter().map(|r| r.origin));
         assert!(
             spread.extent().length() > 0.5 * bounds.extent().length(),
             "origins span {spread:?} of {bounds:?}"

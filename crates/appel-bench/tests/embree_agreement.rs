@@ -1,46 +1,40 @@
 //! Every acceleration structure finds the hits Intel Embree finds, on the same rays, in this process:
 //! camera rays, incoherent rays and shadow rays on shared real meshes and on the generated benchmark
-//! scenes. Embree is loaded at run time; without it the test says so and passes, unless
-//! `APPEL_REQUIRE_EMBREE` is set (as `.ci/run` does after installing it), when it fails.
+//! scenes. Embree is loaded at run time; without it a test prints `SKIPPED: <test>: <why>` and
+//! passes, unless `APPEL_REQUIRE_EMBREE` is set (as `.ci/run` does after installing it), when it
+//! fails. The tests on the shared meshes are ignored where the shared data is absent.
 
 use appel::accel::{Accel, AccelKind, TraversalStats};
-use appel::bench::{bench_scene, embree_robust_for, flat_triangles, BenchRays, BenchTarget};
 use appel::geometry::TriangleTest;
 use appel::scene::{frame_model, model_description, Camera, Scene};
+use appel_bench::{bench_scene, embree_robust_for, flat_triangles, BenchRays, BenchTarget};
 use embree_peer::{BuildQuality, Embree};
-use std::path::Path;
 
-fn embree() -> Option<Embree> {
+fn embree(test: &str) -> Option<Embree> {
     match Embree::load(0) {
         Ok(e) => Some(e),
         Err(e) if std::env::var_os("APPEL_REQUIRE_EMBREE").is_some() => {
             panic!("APPEL_REQUIRE_EMBREE is set but {e}")
         }
         Err(e) => {
-            eprintln!("skipped: {e}");
+            appel_testdata::skip(test, e);
             None
         }
     }
 }
 
-fn model(file: &str, w: u32, h: u32) -> Option<BenchTarget> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/common-3d-test-models")
-        .join(file);
-    if !p.exists() {
-        eprintln!("skipped {file}: {} not found", p.display());
-        return None;
-    }
+fn model(file: &str, w: u32, h: u32) -> BenchTarget {
+    let p = appel_testdata::path(&format!("common-3d-test-models/{file}"));
     let mut d = model_description(file);
     (d.camera.width, d.camera.height) = (w, h);
     let scene = Scene::new(&d, p.parent().unwrap()).unwrap();
     let framed = frame_model(&d, scene.geometry.bounds());
-    Some(BenchTarget {
+    BenchTarget {
         name: file.into(),
         camera: Camera::new(&framed.camera),
         geometry: scene.geometry,
         accel_options: Default::default(),
-    })
+    }
 }
 
 /// Compares every structure with Embree on the target's rays. Embree's default triangle test is not
@@ -103,23 +97,26 @@ fn check(embree: &Embree, t: &BenchTarget) {
 }
 
 #[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn every_structure_agrees_with_embree_on_shared_meshes() {
-    let Some(embree) = embree() else { return };
+    let Some(embree) = embree("every_structure_agrees_with_embree_on_shared_meshes") else {
+        return;
+    };
     for file in [
         "stanford-bunny.obj.gz",
         "ogre.obj.gz",
         "fandisk.obj",
         "teapot.obj",
     ] {
-        if let Some(t) = model(file, 160, 120) {
-            check(&embree, &t);
-        }
+        check(&embree, &model(file, 160, 120));
     }
 }
 
 #[test]
 fn every_structure_agrees_with_embree_on_generated_scenes() {
-    let Some(embree) = embree() else { return };
+    let Some(embree) = embree("every_structure_agrees_with_embree_on_generated_scenes") else {
+        return;
+    };
     for name in ["uniform", "teapot-in-stadium"] {
         let t = bench_scene(name, 20_000, 160, 120).unwrap();
         check(&embree, &t);
@@ -193,13 +190,19 @@ fn check_pairings(embree: &Embree, mut t: BenchTarget) {
 }
 
 #[test]
-fn both_triangle_tests_agree_with_their_embree_pairing() {
-    let Some(embree) = embree() else { return };
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
+fn both_triangle_tests_agree_with_their_embree_pairing_on_shared_meshes() {
+    let test = "both_triangle_tests_agree_with_their_embree_pairing_on_shared_meshes";
+    let Some(embree) = embree(test) else { return };
     for file in ["stanford-bunny.obj.gz", "ogre.obj.gz"] {
-        if let Some(t) = model(file, 160, 120) {
-            check_pairings(&embree, t);
-        }
+        check_pairings(&embree, model(file, 160, 120));
     }
+}
+
+#[test]
+fn both_triangle_tests_agree_with_their_embree_pairing_on_generated_scenes() {
+    let test = "both_triangle_tests_agree_with_their_embree_pairing_on_generated_scenes";
+    let Some(embree) = embree(test) else { return };
     check_pairings(&embree, bench_scene("uniform", 20_000, 160, 120).unwrap());
     check_pairings(
         &embree,

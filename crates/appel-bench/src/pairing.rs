@@ -8,8 +8,8 @@ use super::{
     bench_accel, bench_embree, BenchOptions, BenchRays, BenchResult, BenchTarget,
     EmbreeBenchOptions, PeerRatios,
 };
-use crate::accel::AccelKind;
-use crate::geometry::TriangleTest;
+use appel::accel::AccelKind;
+use appel::geometry::TriangleTest;
 use embree_peer::BuildQuality;
 
 /// One triangle test's figures: Appel's structures (each with its ratios to Embree when Embree was

@@ -3,9 +3,9 @@
 //! report the frame time, frames per second and the rays of one frame by kind. For the Monte Carlo
 //! integrators (path, direct), [`bench_samples`] reports samples per second instead.
 
-use crate::error::{Error, Result};
-use crate::render::{render, RayCounts, RenderOptions};
-use crate::scene::{IntegratorKind, Scene};
+use appel::error::{Error, Result};
+use appel::render::{render, RayCounts, RenderOptions};
+use appel::scene::Scene;
 use std::time::Instant;
 
 /// What `N` frames of one scene took.
@@ -136,11 +136,10 @@ pub fn bench_samples(
         return Err(Error::Invalid("--frames must be at least 1".into()));
     }
     let integrator = match scene.settings.integrator {
-        IntegratorKind::Path => "path",
-        IntegratorKind::Direct => "direct",
+        k if k.is_monte_carlo() => k.name(),
         other => {
             return Err(Error::Invalid(format!(
-                "samples per second are measured for the path and direct integrators, not {other:?}"
+                "samples per second are measured for the Monte Carlo integrators, not {other}"
             )))
         }
     };
@@ -188,9 +187,10 @@ pub fn bench_samples(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::description::description_from_str;
-    use crate::description::parse::Syntax;
-    use crate::scene::builtin::builtin_scene;
+    use appel::description::description_from_str;
+    use appel::description::parse::Syntax;
+    use appel::scene::builtin::builtin_scene;
+    use appel::scene::IntegratorKind;
     use std::path::Path;
 
     fn whitted(w: u32, h: u32) -> Scene {

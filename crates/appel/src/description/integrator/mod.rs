@@ -1,0 +1,6 @@
+//! The parameters of the integrators that have a `[render.NAME]` table of their own, one file
+//! each; the registry (`integrator_registry.rs`) names them.
+
+mod aov;
+
+pub use aov::{AovChannel, AovParams, AovType};

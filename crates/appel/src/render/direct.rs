@@ -1,0 +1,34 @@
+//! Mitsuba's `direct` integrator: emitters seen by the camera, and direct light by multiple
+//! importance sampling of one emitter and one BSDF sample; the path tracer's estimator stopped
+//! after direct light.
+
+use super::integrator::{FilmSample, Integrator};
+use super::path::PathTracer;
+use super::sampler::Sampler;
+use super::{PixelAov, TraceContext};
+use crate::error::Result;
+use crate::scene::{RenderSettings, Scene};
+
+#[derive(Clone, Copy, Debug)]
+pub struct Direct(pub PathTracer);
+
+impl Integrator for Direct {
+    const NAME: &'static str = "direct";
+
+    fn from_settings(s: &RenderSettings) -> Result<Self> {
+        Ok(Direct(PathTracer::direct(s.hide_emitters)))
+    }
+
+    #[inline]
+    fn sample<S: Sampler>(
+        &self,
+        scene: &Scene,
+        x: u32,
+        y: u32,
+        sampler: &mut S,
+        aov: Option<&mut PixelAov>,
+        ctx: &mut TraceContext,
+    ) -> FilmSample {
+        self.0.sample(scene, x, y, sampler, aov, ctx)
+    }
+}
