@@ -4,8 +4,8 @@ use appel::description::Description;
 use appel::output::heatmap::write_heatmap;
 use appel::output::image::{write_image_with, Aovs, ImageFormat};
 use appel::render::cost::CostImage;
-use appel::render::{render, RenderOptions, Window};
-use appel::scene::{LoadStep, SceneOptions};
+use appel::render::{render, Film, RenderOptions, RenderStats, Window};
+use appel::scene::{LoadStep, Scene, SceneOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -14,8 +14,9 @@ use std::sync::Arc;
 
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    /// A scene file (.toml or .json), a mesh file to view (.ply, .obj, .gltf, .glb, .ply.gz, .obj.gz),
-    /// or the name of a built-in scene (`appel scenes`). Default: whitted.
+    /// A scene file (.toml, .json, Mitsuba .xml, pbrt .pbrt), a mesh file to view (.ply, .obj,
+    /// .gltf, .glb, .ply.gz, .obj.gz, .zip or x.zip:inner.obj), or the name of a built-in scene
+    /// (`appel scenes`). Default: whitted.
     pub scene: Option<String>,
     /// Output image: .png (8-bit sRGB) or .exr (linear float RGB, plus AOVs). With --frames, a
     /// name with `{frame}` or `{frame:04}` in it, replaced by each frame's number.
@@ -70,8 +71,47 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
-    // Check the output name first, so a typo fails before a long render.
-    ImageFormat::from_path(&args.output)?;
+    let outputs = check_outputs(&args)?;
+    if let Some(frames) = &args.frames {
+        return crate::render_frames::run(&args, frames, outputs.aovs);
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("cannot start the worker threads")?;
+    let interrupt = Interrupt::install();
+    let show = !args.quiet && std::io::stderr().is_terminal();
+    let (scene, parse_time) = resolve(&args, &pool, &interrupt, show)?;
+    interrupt.enter(RENDERING);
+    if args.stats {
+        print_accel_stats(&scene);
+    }
+    if let Some(what) = &args.heatmap {
+        return write_cost_heatmap(&args.output, what, &pool, &scene);
+    }
+    let (film, stats) = render_image(&scene, outputs.window, &args, &pool, &interrupt, show)?;
+    interrupt.enter(WRITING);
+    let cost = outputs
+        .aovs
+        .cost
+        .then(|| pool.install(|| CostImage::of(&scene)));
+    if cost.is_some() && outputs.window.is_some() {
+        bail!("--aov cost is of the whole image: it does not take --window");
+    }
+    write_image_with(&args.output, &film, outputs.aovs, cost.as_ref())?;
+    print_summary(&args, &scene, &film, &stats, parse_time);
+    Ok(())
+}
+
+/// What the flags ask to be written, checked before anything is loaded so that a typo fails
+/// before a long render.
+struct Outputs {
+    window: Option<Window>,
+    aovs: Aovs,
+}
+
+fn check_outputs(args: &RenderArgs) -> Result<Outputs> {
+    let format = ImageFormat::from_path(&args.output)?;
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
         if !dir.is_dir() {
             bail!(
@@ -91,52 +131,78 @@ pub fn run(args: RenderArgs) -> Result<()> {
         Some(list) => Aovs::parse(list).map_err(|e| anyhow!("--aov: {e}"))?,
         None => Aovs::default(),
     };
-    if aovs.any() && ImageFormat::from_path(&args.output)? != ImageFormat::Exr {
+    if aovs.any() && format != ImageFormat::Exr {
         bail!("--aov needs an .exr output: AOVs are written as EXR channels");
     }
-    if args.heatmap.is_some() && ImageFormat::from_path(&args.output)? != ImageFormat::Png {
+    if args.heatmap.is_some() && format != ImageFormat::Png {
         bail!("--heatmap writes a .png picture");
     }
     if args.heatmap.is_some() && (aovs.any() || args.frames.is_some()) {
         bail!("--heatmap writes one picture of cost: it takes neither --aov nor --frames");
     }
-    if let Some(frames) = &args.frames {
-        return crate::render_frames::run(&args, frames, aovs);
+    Ok(Outputs { window, aovs })
+}
+
+/// Ctrl-C: while loading and building nothing has been written, so the process ends at once (a
+/// structure build cannot be interrupted half-way, and may take minutes); while rendering, the
+/// render stops after the tiles in flight and nothing is written; while the image is being
+/// written it finishes (the write is atomic and short).
+struct Interrupt {
+    cancel: Arc<AtomicBool>,
+    phase: Arc<AtomicU8>,
+}
+
+impl Interrupt {
+    fn install() -> Self {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let phase = Arc::new(AtomicU8::new(LOADING));
+        {
+            let (cancel, phase) = (cancel.clone(), phase.clone());
+            let _ = ctrlc::set_handler(move || match phase.load(Ordering::SeqCst) {
+                LOADING => {
+                    eprintln!("\ninterrupted while loading: nothing was written");
+                    std::process::exit(130);
+                }
+                _ => cancel.store(true, Ordering::SeqCst),
+            });
+        }
+        Self { cancel, phase }
     }
-    let xml = args.params.format_options()?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .context("cannot start the worker threads")?;
-    // Ctrl-C: while loading and building nothing has been written, so the process ends at once
-    // (a structure build cannot be interrupted half-way, and may take minutes); while rendering,
-    // the render stops after the tiles in flight and nothing is written; while the image is being
-    // written it finishes (the write is atomic and short).
-    let cancel = Arc::new(AtomicBool::new(false));
-    let phase = Arc::new(AtomicU8::new(LOADING));
-    {
-        let (cancel, phase) = (cancel.clone(), phase.clone());
-        let _ = ctrlc::set_handler(move || match phase.load(Ordering::SeqCst) {
-            LOADING => {
-                eprintln!("\ninterrupted while loading: nothing was written");
-                std::process::exit(130);
-            }
-            _ => cancel.store(true, Ordering::SeqCst),
-        });
+
+    fn enter(&self, phase: u8) {
+        self.phase.store(phase, Ordering::SeqCst);
     }
-    let show = !args.quiet && std::io::stderr().is_terminal();
-    let load_bar = show.then(|| {
-        let bar = ProgressBar::new(1);
+}
+
+/// A progress bar on stderr with `template`, when `show`.
+fn progress_bar(show: bool, length: u64, template: &str) -> Option<ProgressBar> {
+    show.then(|| {
+        let bar = ProgressBar::new(length);
         bar.set_style(
-            ProgressStyle::with_template(
-                "{spinner} loading [{bar:40}] {pos}/{len} {elapsed} {msg}",
-            )
-            .expect("static template")
-            .progress_chars("=> "),
+            ProgressStyle::with_template(template)
+                .expect("static template")
+                .progress_chars("=> "),
         );
-        bar.enable_steady_tick(std::time::Duration::from_millis(200));
         bar
-    });
+    })
+}
+
+/// The scene the arguments name, with their settings, built on `pool` under a progress bar.
+fn resolve(
+    args: &RenderArgs,
+    pool: &rayon::ThreadPool,
+    interrupt: &Interrupt,
+    show: bool,
+) -> Result<(Scene, std::time::Duration)> {
+    let xml = args.params.format_options()?;
+    let load_bar = progress_bar(
+        show,
+        1,
+        "{spinner} loading [{bar:40}] {pos}/{len} {elapsed} {msg}",
+    );
+    if let Some(b) = &load_bar {
+        b.enable_steady_tick(std::time::Duration::from_millis(200));
+    }
     let step = |s: &LoadStep| {
         if let Some(b) = &load_bar {
             b.set_length(s.total);
@@ -146,14 +212,14 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     let scene_options = SceneOptions {
         progress: Some(&step),
-        cancel: Some(&cancel),
+        cancel: Some(&interrupt.cancel),
         ..Default::default()
     };
     let loaded = pool.install(|| {
         load_scene_with(
             args.scene.as_deref(),
             &xml,
-            |d| apply_settings(d, &args),
+            |d| apply_settings(d, args),
             scene_options,
             args.view.camera,
         )
@@ -161,53 +227,70 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if let Some(b) = load_bar {
         b.finish_and_clear();
     }
-    let (scene, parse_time) = loaded?;
-    phase.store(RENDERING, Ordering::SeqCst);
-    if args.stats {
-        let s = scene.accel_stats();
-        let layout = match &scene.accel {
-            appel::accel::Accel::Bvh(b) => format!(
-                " ({}-wide, {} splits)",
-                b.width(),
-                scene.settings.accel_options.bvh.split.name()
-            ),
-            _ => String::new(),
-        };
-        eprintln!(
-            "accel {}{layout}: {} primitives, built in {:.3} ms, {} bytes, {} nodes, {} leaves, depth {}{}",
-            s.name,
-            s.primitives,
-            s.build_time.as_secs_f64() * 1e3,
-            s.bytes,
-            s.nodes,
-            s.leaves,
-            s.depth,
-            s.sah_cost
-                .map(|c| format!(", SAH cost {c:.2}"))
-                .unwrap_or_default()
-        );
-    }
+    loaded
+}
 
-    if let Some(what) = &args.heatmap {
-        let cost = pool.install(|| CostImage::of(&scene));
-        let values = if what == "nodes" {
-            &cost.nodes
-        } else {
-            &cost.tests
-        };
-        let label = format!("{what} per camera ray");
-        write_heatmap(&args.output, cost.width, cost.height, values, &label)?;
-        let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len().max(1) as f64;
-        let max = values.iter().copied().fold(0.0f32, f32::max);
-        println!(
-            "{}: {}x{} heatmap of {what} per camera ray under {}: mean {mean:.2}, max {max:.0}",
-            args.output.display(),
-            cost.width,
-            cost.height,
-            scene.settings.accel.name()
-        );
-        return Ok(());
-    }
+fn print_accel_stats(scene: &Scene) {
+    let s = scene.accel_stats();
+    let layout = match &scene.accel {
+        appel::accel::Accel::Bvh(b) => format!(
+            " ({}-wide, {} splits)",
+            b.width(),
+            scene.settings.accel_options.bvh.split.name()
+        ),
+        _ => String::new(),
+    };
+    eprintln!(
+        "accel {}{layout}: {} primitives, built in {:.3} ms, {} bytes, {} nodes, {} leaves, depth {}{}",
+        s.name,
+        s.primitives,
+        s.build_time.as_secs_f64() * 1e3,
+        s.bytes,
+        s.nodes,
+        s.leaves,
+        s.depth,
+        s.sah_cost
+            .map(|c| format!(", SAH cost {c:.2}"))
+            .unwrap_or_default()
+    );
+}
+
+/// `--heatmap nodes|tests`: a false-colour picture of the camera rays' cost instead of a render.
+fn write_cost_heatmap(
+    output: &std::path::Path,
+    what: &str,
+    pool: &rayon::ThreadPool,
+    scene: &Scene,
+) -> Result<()> {
+    let cost = pool.install(|| CostImage::of(scene));
+    let values = if what == "nodes" {
+        &cost.nodes
+    } else {
+        &cost.tests
+    };
+    let label = format!("{what} per camera ray");
+    write_heatmap(output, cost.width, cost.height, values, &label)?;
+    let mean = values.iter().map(|&v| v as f64).sum::<f64>() / values.len().max(1) as f64;
+    let max = values.iter().copied().fold(0.0f32, f32::max);
+    println!(
+        "{}: {}x{} heatmap of {what} per camera ray under {}: mean {mean:.2}, max {max:.0}",
+        output.display(),
+        cost.width,
+        cost.height,
+        scene.settings.accel.name()
+    );
+    Ok(())
+}
+
+/// Renders the scene (or its `window`) on `pool` under a progress bar.
+fn render_image(
+    scene: &Scene,
+    window: Option<Window>,
+    args: &RenderArgs,
+    pool: &rayon::ThreadPool,
+    interrupt: &Interrupt,
+    show: bool,
+) -> Result<(Film, RenderStats)> {
     if let Some(w) = window {
         w.check(scene.camera.width, scene.camera.height)
             .map_err(|e| anyhow!("--window: {e}"))?;
@@ -216,17 +299,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
         scene.camera.width as u64 * scene.camera.height as u64,
         |w| (w.x1 - w.x0) as u64 * (w.y1 - w.y0) as u64,
     );
-    let bar = show.then(|| {
-        let bar = ProgressBar::new(pixels);
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{spinner} rendering [{bar:40}] {percent:>3}% {elapsed} (eta {eta})",
-            )
-            .expect("static template")
-            .progress_chars("=> "),
-        );
-        bar
-    });
+    let bar = progress_bar(
+        show,
+        pixels,
+        "{spinner} rendering [{bar:40}] {percent:>3}% {elapsed} (eta {eta})",
+    );
     let progress = |done: u64| {
         if let Some(b) = &bar {
             b.set_position(done);
@@ -234,26 +311,30 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     let options = RenderOptions {
         progress: Some(&progress),
-        cancel: Some(&cancel),
+        cancel: Some(&interrupt.cancel),
         time_limit: args.time_limit.map(std::time::Duration::from_secs_f64),
         window,
         skip_aovs: false,
     };
-    let rendered = pool.install(|| render(&scene, &options));
+    let rendered = pool.install(|| render(scene, &options));
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let (film, stats) = rendered?;
-    phase.store(WRITING, Ordering::SeqCst);
-    let cost = aovs.cost.then(|| pool.install(|| CostImage::of(&scene)));
-    if cost.is_some() && window.is_some() {
-        bail!("--aov cost is of the whole image: it does not take --window");
-    }
-    write_image_with(&args.output, &film, aovs, cost.as_ref())?;
+    Ok(rendered?)
+}
+
+/// The line that says what was written and how long each stage took, and with `--stats` the
+/// traversal counts.
+fn print_summary(
+    args: &RenderArgs,
+    scene: &Scene,
+    film: &Film,
+    stats: &RenderStats,
+    parse_time: std::time::Duration,
+) {
     let peak = crate::memory::peak_rss_bytes()
         .map(|b| format!(" | peak RSS {:.0} MB", b as f64 / 1e6))
         .unwrap_or_default();
-
     let r = stats.rays;
     let load = parse_time + scene.timings.load;
     println!(
@@ -290,7 +371,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
             );
         }
     }
-    Ok(())
 }
 
 /// `X0,Y0,X1,Y1` in pixels.

@@ -2,14 +2,12 @@
 //! or a built-in scene), the camera flags, and building it.
 
 use anyhow::{anyhow, bail, Result};
-use appel::description::parse::Syntax;
-use appel::description::{description_from_str, validate, Description};
+use appel::api::{build_resolved, resolve_description, RequestNames, ResolvedScene, SceneRequest};
+use appel::description::Description;
 use appel::format::FormatOptions;
-use appel::io::is_mesh_file;
-use appel::scene::builtin::builtin_scene;
-use appel::scene::{model_description, view_model, Scene, SceneOptions};
-use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use appel::scene::{Scene, SceneOptions};
+use std::path::PathBuf;
+use std::time::Duration;
 
 /// Flags that override the camera of a scene, or the automatic framing of a mesh file.
 #[derive(clap::Args, Clone, Debug, Default)]
@@ -83,10 +81,10 @@ impl ParamArgs {
     }
 }
 
-/// Reads a scene (file, mesh file or built-in), lets `adjust` apply command-line overrides, checks the
-/// result, and builds it on the current thread pool. A mesh file is framed once its bounds are known,
-/// and `adjust` runs again so that camera flags win over the framing. Returns the scene and the time
-/// spent reading and checking the scene file.
+/// Reads a scene (file, mesh file or built-in; `appel::api::resolve_scene`), lets `adjust` apply
+/// command-line overrides, checks the result, and builds it on the current thread pool. A mesh
+/// file is framed once its bounds are known, and `adjust` runs again so that camera flags win over
+/// the framing. Returns the scene and the time spent reading and checking the scene file.
 pub fn load_scene(
     name: Option<&str>,
     xml: &FormatOptions,
@@ -95,9 +93,9 @@ pub fn load_scene(
     load_scene_with(name, xml, adjust, SceneOptions::default(), None)
 }
 
-/// [`load_scene`] with progress reports and cancellation while files load and structures build.
-/// Before anything large is read, the scene's estimated memory is checked against what is
-/// available.
+/// [`load_scene`] with progress reports and cancellation while files load and structures build,
+/// and a glTF file's `camera`. Before anything large is read, the scene's estimated memory is
+/// checked against what is available.
 pub fn load_scene_with(
     name: Option<&str>,
     xml: &FormatOptions,
@@ -105,30 +103,13 @@ pub fn load_scene_with(
     options: SceneOptions,
     camera: Option<usize>,
 ) -> Result<(Scene, Duration)> {
-    let start = Instant::now();
-    let (mut description, base_dir, is_model) = read_scene_or_model(name, xml)?;
-    adjust(&mut description)?;
-    check(&description)?;
-    crate::memory::check_memory(&description, &base_dir)?;
-    let parse_time = start.elapsed();
-    if camera.is_some() && !is_model {
-        bail!(
-            "--camera picks a camera of a glTF file; `{}` is a scene, whose camera is its own",
-            name.unwrap_or("whitted")
-        );
-    }
-    let mut scene = Scene::new_with(&description, &base_dir, options)?;
+    let request = scene_request(name, xml, camera, &adjust);
+    let mut resolved = resolve(&request)?;
+    let scene = build_resolved(&request, &mut resolved, options)?;
     for w in &scene.from_files.warnings {
         eprintln!("warning: {w}");
     }
-    if is_model {
-        let framed = model_view(&scene, &description, camera, &adjust)?;
-        scene.set_view(&framed)?;
-        scene.settings.integrator = framed.render.integrator;
-        scene.settings.spp = framed.render.spp;
-        scene.settings.max_depth = framed.render.max_depth;
-    }
-    Ok((scene, parse_time))
+    Ok((scene, resolved.parse_time))
 }
 
 /// The description of a scene file or built-in scene (not a mesh file) after `adjust`, checked,
@@ -138,17 +119,45 @@ pub fn load_description_only(
     xml: &FormatOptions,
     adjust: impl Fn(&mut Description) -> Result<()>,
 ) -> Result<(Description, PathBuf)> {
-    let (mut description, base_dir, is_model) = read_scene_or_model(name, xml)?;
-    if is_model {
-        bail!(
-            "`{}` is a mesh file; an animation is a scene file with `[animation]`",
-            name.unwrap_or("whitted")
-        );
+    let name = name.unwrap_or(DEFAULT_SCENE);
+    if appel::api::is_model(name) {
+        bail!("`{name}` is a mesh file; an animation is a scene file with `[animation]`");
     }
-    adjust(&mut description)?;
-    check(&description)?;
-    crate::memory::check_memory(&description, &base_dir)?;
-    Ok((description, base_dir))
+    let resolved = resolve(&scene_request(Some(name), xml, None, &adjust))?;
+    Ok((resolved.description, resolved.base_dir))
+}
+
+/// The scene `appel render` shows when none is named.
+pub const DEFAULT_SCENE: &str = "whitted";
+
+/// What the command line asks of `appel::api::resolve_scene`, in the flags' terms.
+fn scene_request<'a>(
+    name: Option<&'a str>,
+    xml: &FormatOptions,
+    camera: Option<usize>,
+    adjust: &'a dyn Fn(&mut Description) -> Result<()>,
+) -> SceneRequest<'a, anyhow::Error> {
+    SceneRequest {
+        name: name.unwrap_or(DEFAULT_SCENE),
+        params: xml.clone(),
+        camera,
+        overrides: adjust,
+        names: RequestNames {
+            overrides: "command-line overrides",
+            camera: "--camera",
+            params: "-D parameters",
+        },
+    }
+}
+
+/// Reads and checks the scene, prints the reader's warnings, and checks its estimated memory.
+fn resolve(request: &SceneRequest<'_, anyhow::Error>) -> Result<ResolvedScene> {
+    let resolved = resolve_description(request)?;
+    for w in &resolved.warnings {
+        eprintln!("warning: {w}");
+    }
+    crate::memory::check_memory(&resolved.description, &resolved.base_dir)?;
+    Ok(resolved)
 }
 
 /// `A..B` (frames A to B-1) or `K` (frame K alone).
@@ -168,82 +177,6 @@ pub fn parse_frames(s: &str) -> Result<std::ops::Range<u32>> {
         bail!("--frames: `{s}` holds no frame (the end is excluded)");
     }
     Ok(range)
-}
-
-/// The library's view of a mesh file (see `appel::scene::view_model`), then the command line's
-/// overrides.
-fn model_view(
-    scene: &Scene,
-    description: &Description,
-    camera: Option<usize>,
-    adjust: &impl Fn(&mut Description) -> Result<()>,
-) -> Result<Description> {
-    let mut framed =
-        view_model(scene, description, camera).map_err(|e| anyhow!("--camera: {e}"))?;
-    adjust(&mut framed)?;
-    check(&framed)?;
-    Ok(framed)
-}
-
-fn check(d: &Description) -> Result<()> {
-    validate::validate(d).map_err(|e| anyhow!("after command-line overrides: {}", e.message))
-}
-
-/// A scene file, a mesh file (the flag says so: the caller frames it once the bounds are known),
-/// or a built-in scene by name. `xml` holds the parameters of a Mitsuba scene, and only of one.
-fn read_scene_or_model(
-    scene: Option<&str>,
-    xml: &FormatOptions,
-) -> Result<(Description, PathBuf, bool)> {
-    let name = scene.unwrap_or("whitted");
-    let path = Path::new(name);
-    if !xml.params.is_empty() && !appel::format::find(path).is_some_and(|f| f.takes_params()) {
-        bail!("-D sets parameters of a Mitsuba 3 XML scene (.xml); `{name}` is not one");
-    }
-    if is_mesh_file(path) {
-        // An archive's entry (`x.zip:dir/m.obj`) is named relative to the archive's folder.
-        let archive = appel::io::assets::archive_path(path);
-        let file_path = archive.as_ref().map_or(path, |a| a.archive.as_path());
-        let file = file_path
-            .file_name()
-            .and_then(|f| f.to_str())
-            .ok_or_else(|| anyhow!("`{name}`: the file name is not valid UTF-8"))?;
-        let file = match archive.as_ref().and_then(|a| a.inner.as_deref()) {
-            Some(inner) => format!("{file}:{inner}"),
-            None => file.to_string(),
-        };
-        if !file_path.is_file() {
-            bail!("{}: no such mesh file", file_path.display());
-        }
-        let base_dir = match file_path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
-        return Ok((model_description(&file), base_dir, true));
-    }
-    if Syntax::from_path(path).is_none() && !path.exists() {
-        if let Some(text) = builtin_scene(name) {
-            let origin = PathBuf::from(format!("<built-in scene {name}>"));
-            return Ok((
-                description_from_str(text, Syntax::Toml, &origin)?,
-                PathBuf::from("."),
-                false,
-            ));
-        }
-        bail!(
-            "`{name}` is neither a scene file nor a built-in scene (built-in: {})",
-            appel::scene::builtin::BUILTIN_SCENES
-                .iter()
-                .map(|s| s.0)
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-    }
-    let loaded = appel::format::load(path, xml)?;
-    for w in &loaded.warnings {
-        eprintln!("warning: {w}");
-    }
-    Ok((loaded.description, loaded.base_dir, false))
 }
 
 /// `640x480` to `(640, 480)`.

@@ -4,8 +4,10 @@ use crate::arrays::{output, slice_mut, Input};
 use crate::errors::to_py;
 use crate::pools;
 use appel::api::{
-    ClosestHits, Coords, MeshArrays, Override, Placement, RayHits, RenderRequest, SceneHandle,
+    is_override_key, ClosestHits, Coords, MeshArrays, Override, Placement, RayHits, RenderRequest,
+    SceneHandle,
 };
+use appel::format::FormatOptions;
 use appel::render::{Film, Window};
 use numpy::{IntoPyArray, PyArrayDyn, PyArrayMethods, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
@@ -32,6 +34,15 @@ fn overrides(json: &str) -> PyResult<Vec<Override>> {
     }
 }
 
+/// A parameter's value as the scene file's text would hold it: strings as they are, numbers and
+/// booleans as written, anything else as JSON.
+fn param_text(value: serde_json::Value) -> String {
+    match value {
+        serde_json::Value::String(s) => s,
+        other => other.to_string(),
+    }
+}
+
 fn scene(handle: SceneHandle) -> NativeScene {
     NativeScene {
         handle: Arc::new(handle),
@@ -40,10 +51,7 @@ fn scene(handle: SceneHandle) -> NativeScene {
 
 #[pyfunction]
 pub fn builtin_names() -> Vec<&'static str> {
-    appel::scene::builtin::BUILTIN_SCENES
-        .iter()
-        .map(|s| s.0)
-        .collect()
+    appel::api::builtin_names()
 }
 
 /// The rays of a query: origins and directions of the same shape.
@@ -125,10 +133,23 @@ fn film_arrays<'py>(py: Python<'py>, film: Film) -> PyResult<Bound<'py, PyDict>>
 
 #[pymethods]
 impl NativeScene {
+    /// `kwargs_json`: camera and render keys are overrides; for a scene format that takes
+    /// parameters (Mitsuba XML), any other key is a parameter. `params_json`: parameters by name,
+    /// whatever the name.
     #[staticmethod]
-    fn load(py: Python<'_>, path: PathBuf, overrides_json: &str) -> PyResult<Self> {
-        let o = overrides(overrides_json)?;
-        py.allow_threads(|| SceneHandle::load(&path, &o))
+    fn load(py: Python<'_>, path: PathBuf, kwargs_json: &str, params_json: &str) -> PyResult<Self> {
+        let takes_params = appel::format::find(&path).is_some_and(|f| f.takes_params());
+        let (o, extra): (Vec<Override>, Vec<Override>) = overrides(kwargs_json)?
+            .into_iter()
+            .partition(|(key, _)| is_override_key(key) || !takes_params);
+        let params = FormatOptions {
+            params: extra
+                .into_iter()
+                .chain(overrides(params_json)?)
+                .map(|(name, value)| (name, param_text(value)))
+                .collect(),
+        };
+        py.allow_threads(|| SceneHandle::load(&path, &params, &o))
             .map(scene)
             .map_err(to_py)
     }

@@ -150,3 +150,82 @@ def test_from_meshes_places_instances():
         appel.Scene.from_meshes([m, m], transforms=[t])
     with pytest.raises(ValueError, match="accel: unknown structure"):
         appel.Scene.from_meshes([m], accel="octopus")
+
+
+XML_SCENE = """<scene version="3.0.0">
+    <default name="res" value="16"/>
+    <default name="spp" value="2"/>
+    <sensor type="perspective">
+        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="$spp"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="$res"/><integer name="height" value="$res"/></film>
+    </sensor>
+    <shape type="sphere"><bsdf type="diffuse"/></shape>
+    <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+</scene>
+"""
+
+
+def test_load_passes_mitsuba_parameters(tmp_path):
+    xml = tmp_path / "scene.xml"
+    xml.write_text(XML_SCENE)
+    assert appel.load(xml).size == (16, 16)
+    # A keyword that is not a camera or render key is a parameter of the XML file.
+    s = appel.load(xml, res=24)
+    assert s.size == (24, 24)
+    # `spp` is a render key, so as a keyword it overrides `[render] spp`; `params` passes it to
+    # the file as the parameter `$spp` whatever its name.
+    with pytest.raises(ValueError, match="override `spp`"):
+        appel.load(xml, spp="many")
+    with pytest.raises(ValueError, match=r"scene\.xml:\d+"):
+        appel.load(xml, params={"spp": "many"})
+    assert appel.load(xml, spp=3, params={"spp": 5, "res": 10}).size == (10, 10)
+    # Overrides win over parameters.
+    assert appel.load(xml, res=24, width=8).size == (8, 24)
+    # A parameter the file cannot use is an error at its place in the file.
+    with pytest.raises(ValueError, match=r"scene\.xml:\d+"):
+        appel.load(xml, res="wide")
+    with pytest.raises(ValueError, match="params: expected a dict"):
+        appel.load(xml, params=["res", "8"])
+
+
+def test_load_rejects_parameters_where_the_format_takes_none(tmp_path):
+    toml = tmp_path / "s.toml"
+    toml.write_text('[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nwidth = 8\nheight = 8\n\n'
+                    '[[shape]]\ntype = "sphere"\ncenter = [0, 0, 0]\nradius = 1\n')
+    with pytest.raises(ValueError, match="unknown override `res`"):
+        appel.load(toml, res=8)
+    with pytest.raises(ValueError, match=r"parameters \(res\) are read by a scene file of mitsuba"):
+        appel.load(toml, params={"res": 8})
+
+
+def test_load_reads_a_mesh_inside_an_archive(tmp_path):
+    import zipfile
+    archive = tmp_path / "assets.zip"
+    with zipfile.ZipFile(archive, "w") as z:
+        z.writestr("tetra/inner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                   "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+        z.writestr("other.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    s = appel.load(f"{archive}:tetra/inner.obj", width=16, height=12)
+    assert s.size == (16, 12)
+    lo, hi = s.bounds
+    np.testing.assert_array_equal(lo, [0, 0, 0])
+    np.testing.assert_array_equal(hi, [1, 1, 1])
+    with pytest.raises(ValueError, match="missing.obj"):
+        appel.load(f"{archive}:missing.obj")
+    with pytest.raises(FileNotFoundError, match="no such mesh file"):
+        appel.load(f"{tmp_path / 'none.zip'}:inner.obj")
+
+
+@pytest.mark.parametrize("accel, table", [
+    ("octree", {"max_prims": 2, "max_depth": 4}),
+    ("bsp", None),
+    ("grid", None),
+])
+def test_every_structure_table_is_an_override(accel, table):
+    if table is None:
+        table = {}
+    s = appel.builtin("whitted", width=16, height=12, accel=accel, **{accel: table})
+    assert s.size == (16, 12)
+    with pytest.raises(ValueError, match=f"override `{accel}`"):
+        appel.builtin("whitted", **{accel: {"no_such_option": 1}})

@@ -205,12 +205,27 @@ class Scene:
         return f"<appel.Scene {w}x{h}, source={self.source!r}>"
 
 
-def load(path, **overrides):
-    """Any scene file Appel reads (TOML, JSON, Mitsuba 3 XML, or a mesh file to frame), with
-    camera and render keys overridden, e.g. ``load("s.toml", width=64, height=64, spp=4)``."""
+def load(path, params=None, **kwargs):
+    """Any scene Appel reads, as ``appel render`` does: a scene file (TOML, JSON, Mitsuba 3 XML,
+    pbrt-v4), a mesh file to frame (``bunny.ply``, ``assets.zip:inner.obj``) or a built-in
+    scene's name.
+
+    Keyword arguments that are camera or render keys (``width``, ``height``, ``size``, ``eye``,
+    ``spp``, ``integrator``, ``bvh``, ``octree``, ...) override the scene's, after the file is read:
+    ``load("s.toml", width=64, height=64, spp=4)``. For a Mitsuba XML file any other keyword is a
+    parameter (``-D name=value``): ``load("scene.xml", resx=128)``. ``params`` passes parameters
+    by name whatever the name, such as a parameter called ``spp``:
+    ``load("scene.xml", params={"spp": 16})``. Values are passed as their text."""
     path = os.fspath(path)
-    native = _appel.NativeScene.load(path, _json(overrides))
-    return Scene(native, ("file", os.path.abspath(path), dict(overrides)))
+    if params is not None and not isinstance(params, dict):
+        raise ValueError(f"params: expected a dict of name to value, got {type(params).__name__}")
+    native = _appel.NativeScene.load(path, _json(kwargs), _json(params))
+    source = dict(kwargs)
+    if params:
+        source["params"] = dict(params)
+    if not os.path.exists(path) and path in builtin_names():
+        return Scene(native, ("builtin", path, source))
+    return Scene(native, ("file", os.path.abspath(path), source))
 
 
 def load_dict(d, base_dir=None):

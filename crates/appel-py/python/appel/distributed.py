@@ -39,6 +39,12 @@ def file_sha256(path):
     return h.hexdigest()
 
 
+def _file_of(path):
+    """The file that holds a scene: the archive of ``x.zip:inner.obj``, else ``path``."""
+    at = path.lower().find(".zip:")
+    return path[: at + 4] if at >= 0 else path
+
+
 @dataclass(frozen=True)
 class SceneRef:
     """A scene by reference: ``path`` to a scene file (or a built-in name with ``builtin=True``),
@@ -64,7 +70,7 @@ class SceneRef:
         kind, path, overrides = source
         if kind == "builtin":
             return cls(path, dict(overrides), None, True)
-        return cls(path, dict(overrides), file_sha256(path), False)
+        return cls(path, dict(overrides), file_sha256(_file_of(path)), False)
 
     def key(self):
         return (self.path, json.dumps(self.overrides, sort_keys=True, default=str),
@@ -75,7 +81,7 @@ class SceneRef:
             return _scene.builtin(self.path, **self.overrides)
         if self.sha256 is not None:
             try:
-                have = file_sha256(self.path)
+                have = file_sha256(_file_of(self.path))
             except OSError as e:
                 raise SceneMismatch(
                     f"{socket.gethostname()}: cannot read the scene file {self.path}: {e}"

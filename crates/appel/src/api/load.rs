@@ -1,13 +1,14 @@
 //! Scenes from files, built-in names and JSON text, with camera and render keys overridden.
 
+use super::resolve::{builtin_names, resolve_scene, RequestNames, SceneRequest};
 use super::SceneHandle;
+use crate::accel::AccelKind;
 use crate::description::parse::Syntax;
 use crate::description::{description_from_str, validate, Description};
 use crate::error::{Error, Location, Result};
 use crate::format::FormatOptions;
-use crate::io::is_mesh_file;
-use crate::scene::builtin::{builtin_scene, BUILTIN_SCENES};
-use crate::scene::{frame_model, model_description, Scene};
+use crate::scene::builtin::builtin_scene;
+use crate::scene::{Scene, SceneOptions};
 use std::path::{Path, PathBuf};
 
 /// One overridden key: a `[camera]` or `[render]` key of the scene schema (or `size`, `[width,
@@ -28,8 +29,8 @@ pub const CAMERA_KEYS: &[&str] = &[
     "height",
 ];
 
-/// The `[render]` keys an override may set.
-pub const RENDER_KEYS: &[&str] = &[
+/// The `[render]` keys an override may set other than the structures' tables.
+const RENDER_SETTINGS: &[&str] = &[
     "integrator",
     "max_depth",
     "rr_depth",
@@ -40,10 +41,22 @@ pub const RENDER_KEYS: &[&str] = &[
     "seed",
     "filter",
     "triangle",
-    "bvh",
-    "grid",
-    "kdtree",
 ];
+
+/// The `[render]` keys an override may set: the settings, and the `[render.NAME]` table of every
+/// registered acceleration structure ([`AccelKind::NAMES`]).
+pub fn render_keys() -> Vec<&'static str> {
+    RENDER_SETTINGS
+        .iter()
+        .chain(AccelKind::NAMES)
+        .copied()
+        .collect()
+}
+
+/// Whether `key` is one an override may set: `size`, a camera key or a render key.
+pub fn is_override_key(key: &str) -> bool {
+    key == "size" || CAMERA_KEYS.contains(&key) || render_keys().contains(&key)
+}
 
 /// Sets `value` at `key` of the serialized `table`, and reads the table back: serde then checks
 /// the value as the file parser would.
@@ -61,80 +74,67 @@ fn set_key<T: serde::Serialize + serde::de::DeserializeOwned>(
 
 /// Applies overrides to the camera and render tables, then validates the whole description.
 pub fn apply_overrides(d: &mut Description, overrides: &[Override]) -> Result<()> {
-    for (key, value) in overrides {
-        if key == "size" {
-            let size: [u32; 2] = serde_json::from_value(value.clone()).map_err(|_| {
-                Error::Invalid(format!(
-                    "override `size`: expected [width, height], got {value}"
-                ))
-            })?;
-            (d.camera.width, d.camera.height) = (size[0], size[1]);
-        } else if CAMERA_KEYS.contains(&key.as_str()) {
-            set_key(&mut d.camera, key, value)?;
-        } else if RENDER_KEYS.contains(&key.as_str()) {
-            set_key(&mut d.render, key, value)?;
-        } else {
-            return Err(Error::Invalid(format!(
-                "unknown override `{key}`: expected size, a camera key ({}) or a render key ({})",
-                CAMERA_KEYS.join(", "),
-                RENDER_KEYS.join(", ")
-            )));
-        }
-    }
+    apply_keys(d, overrides)?;
     validate::validate(d).map_err(|e| Error::Invalid(format!("after the overrides: {}", e.message)))
 }
 
+/// Sets one overridden key.
+fn set_override(d: &mut Description, key: &str, value: &serde_json::Value) -> Result<()> {
+    if key == "size" {
+        let size: [u32; 2] = serde_json::from_value(value.clone()).map_err(|_| {
+            Error::Invalid(format!(
+                "override `size`: expected [width, height], got {value}"
+            ))
+        })?;
+        (d.camera.width, d.camera.height) = (size[0], size[1]);
+        Ok(())
+    } else if CAMERA_KEYS.contains(&key) {
+        set_key(&mut d.camera, key, value)
+    } else if render_keys().contains(&key) {
+        set_key(&mut d.render, key, value)
+    } else {
+        Err(Error::Invalid(format!(
+            "unknown override `{key}`: expected size, a camera key ({}) or a render key ({})",
+            CAMERA_KEYS.join(", "),
+            render_keys().join(", ")
+        )))
+    }
+}
+
 impl SceneHandle {
-    /// Any scene Appel reads: a scene file (TOML, JSON, Mitsuba 3 XML) or a mesh file, which is
-    /// framed by a camera looking at its bounds, as `appel render` does.
-    pub fn load(path: &Path, overrides: &[Override]) -> Result<SceneHandle> {
-        if is_mesh_file(path) {
-            if !path.is_file() {
-                return Err(Error::io(
-                    path,
-                    std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
-                ));
-            }
-            let file = path.file_name().and_then(|f| f.to_str()).ok_or_else(|| {
-                Error::Invalid(format!("{}: the file name is not UTF-8", path.display()))
-            })?;
-            let base_dir = match path.parent() {
-                Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-                _ => PathBuf::from("."),
-            };
-            let mut d = model_description(file);
-            apply_overrides(&mut d, overrides)?;
-            let mut scene = Scene::new(&d, &base_dir)?;
-            let mut framed = frame_model(&d, scene.geometry.bounds());
-            apply_overrides(&mut framed, overrides)?;
-            scene.set_view(&framed)?;
-            return Ok(SceneHandle::new(scene, framed.camera));
-        }
-        if !path.exists() {
-            return Err(Error::io(
-                path,
-                std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
-            ));
-        }
-        let loaded = crate::format::load(path, &FormatOptions::default())?;
-        Self::build(loaded.description, &loaded.base_dir, overrides)
+    /// Any scene Appel reads ([`super::resolve_scene`]): a scene file of any registered format
+    /// with its `params` (Mitsuba's `-D`), a mesh file (`x.zip:inner.obj` too), which is framed by
+    /// a camera looking at its bounds or viewed through its own camera, as `appel render` does, or
+    /// a built-in scene's name.
+    pub fn load(
+        path: &Path,
+        params: &FormatOptions,
+        overrides: &[Override],
+    ) -> Result<SceneHandle> {
+        let name = path.to_str().ok_or_else(|| {
+            Error::Invalid(format!("{}: the file name is not UTF-8", path.display()))
+        })?;
+        let apply = |d: &mut Description| apply_keys(d, overrides);
+        let request = SceneRequest {
+            name,
+            params: params.clone(),
+            camera: None,
+            overrides: &apply,
+            names: RequestNames::default(),
+        };
+        let (resolved, scene) = resolve_scene(&request, SceneOptions::default())?;
+        Ok(SceneHandle::new(scene, resolved.description.camera))
     }
 
     /// A built-in scene by name.
     pub fn builtin(name: &str, overrides: &[Override]) -> Result<SceneHandle> {
-        let text = builtin_scene(name).ok_or_else(|| {
-            Error::Invalid(format!(
+        if builtin_scene(name).is_none() {
+            return Err(Error::Invalid(format!(
                 "`{name}` is not a built-in scene (built-in: {})",
-                BUILTIN_SCENES
-                    .iter()
-                    .map(|s| s.0)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ))
-        })?;
-        let origin = PathBuf::from(format!("<built-in scene {name}>"));
-        let d = description_from_str(text, Syntax::Toml, &origin)?;
-        Self::build(d, Path::new("."), overrides)
+                builtin_names().join(", ")
+            )));
+        }
+        Self::load(Path::new(name), &FormatOptions::default(), overrides)
     }
 
     /// A scene from JSON text with the scene schema; relative file names are relative to
@@ -145,12 +145,15 @@ impl SceneHandle {
         validate::files(&d, base_dir).map_err(|invalid| {
             Error::input(Location::file(&origin), invalid.message.to_string())
         })?;
-        Self::build(d, base_dir, &[])
-    }
-
-    fn build(mut d: Description, base_dir: &Path, overrides: &[Override]) -> Result<SceneHandle> {
-        apply_overrides(&mut d, overrides)?;
         let scene = Scene::new(&d, base_dir)?;
         Ok(SceneHandle::new(scene, d.camera))
     }
+}
+
+/// The overrides set on the description, without validating it (the resolution does).
+fn apply_keys(d: &mut Description, overrides: &[Override]) -> Result<()> {
+    for (key, value) in overrides {
+        set_override(d, key, value)?;
+    }
+    Ok(())
 }

@@ -12,15 +12,20 @@ mod meshes;
 mod multi_hit;
 mod rays;
 mod render;
+mod resolve;
 mod surface;
 
 pub use handle::SceneHandle;
 pub use image::ImageArrays;
-pub use load::{Override, CAMERA_KEYS, RENDER_KEYS};
+pub use load::{is_override_key, render_keys, Override, CAMERA_KEYS};
 pub use meshes::{MeshArrays, Placement};
 pub use multi_hit::HitList;
 pub use rays::{Coords, RayHits};
 pub use render::RenderRequest;
+pub use resolve::{
+    build_resolved, builtin_names, is_model, resolve_description, resolve_scene, RequestNames,
+    ResolvedScene, SceneRequest,
+};
 pub use surface::ClosestHits;
 
 /// The id of a miss (and of the instance of a surface that is not instanced).

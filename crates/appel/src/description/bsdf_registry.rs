@@ -1,7 +1,7 @@
 //! The one list of BSDFs. Everything that enumerates BSDFs is generated from it: the description's
 //! [`super::MaterialDesc`] variants, their `type` names and the list of names in messages
 //! ([`super::MaterialDesc::BSDF_NAMES`], which the Mitsuba reader accepts), the per-variant
-//! dispatch of the description (textures, indices of refraction, checks, Whitted's view), and in
+//! dispatch of the description (textures, indices of refraction, checks), and in
 //! `shading` (which invokes the same list) the runtime `AnyBsdf` enum with its per-call match and
 //! the textured `Material` variants.
 //!
@@ -15,11 +15,14 @@
 /// [`super::bsdf::BsdfParams`], whose `NAME` is `module`, the `type` of `[materials.NAME]`), and
 /// `shading::bsdf::module` holds `Bsdf` (the BSDF of plain values, implementing
 /// `shading::bsdf::Bsdf`) and `Material` (its textured parameters, implementing
-/// `shading::bsdf::BsdfMaterial`). `Variant` is `module` in upper camel case. Adding a BSDF is
+/// `shading::bsdf::BsdfMaterial`); attributes before a line are its variant's in the description
+/// (`phong` keeps its older name `whitted` as an alias). `Variant` is `module` in upper camel case. Adding a BSDF is
 /// those two files, one line here, and the format readers that map onto it.
 macro_rules! for_each_bsdf {
     ($then:ident) => {
         $then! {
+            #[serde(alias = "whitted")]
+            Phong(phong: PhongDesc => Phong, PhongParams),
             Diffuse(diffuse: DiffuseDesc => Diffuse, DiffuseMaterial),
             Conductor(conductor: ConductorDesc => Conductor, ConductorMaterial),
             RoughConductor(roughconductor: RoughConductorDesc => RoughConductor, RoughConductorMaterial),

@@ -23,6 +23,7 @@ macro_rules! for_each_emitter {
             Area { name: area, runtime: area::AreaEmitter, light: false },
             Constant { name: constant, runtime: constant::ConstantEnvironment, light: true },
             EnvMap { name: envmap, runtime: envmap::EnvMap, light: true },
+            SunSky { name: sunsky, runtime: sunsky::SunSky, light: true },
         }
     };
 }

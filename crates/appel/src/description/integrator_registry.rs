@@ -119,6 +119,8 @@ macro_rules! define_integrator_names {
 }
 for_each_integrator!(define_integrator_names);
 
+// The enum is generated from the registry's list, where no variant can carry `#[default]`.
+#[allow(clippy::derivable_impls)]
 impl Default for IntegratorName {
     fn default() -> Self {
         IntegratorName::Whitted

@@ -81,6 +81,52 @@ pub enum LightDesc {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         transform: Option<TransformDesc>,
     },
+    /// Sky and sun of Hosek and Wilkie's model around the scene (Mitsuba's `sunsky`), in a frame
+    /// whose +z is the zenith and +x north, turned into the scene by `transform`. The sun stands
+    /// along `sun_direction` (world space), or where it is seen from `latitude`/`longitude`
+    /// (degrees) at the local time `year`-`month`-`day` `hour`:`minute`:`second` in `timezone`
+    /// (hours ahead of UTC); without either, at Mitsuba's default place and time (Tokyo,
+    /// 2010-07-10 15:00, UTC+9).
+    Sunsky {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        sun_direction: Option<Vec3f>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        latitude: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        longitude: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        timezone: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        year: Option<i64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        month: Option<i64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        day: Option<i64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        hour: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        minute: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        second: Option<f64>,
+        /// Atmospheric turbidity in [1, 10] (3: a clear temperate sky).
+        #[serde(default = "default_turbidity")]
+        turbidity: f32,
+        /// Ground albedo in [0, 1] per channel.
+        #[serde(default = "default_albedo")]
+        albedo: Vec3f,
+        #[serde(default = "unit")]
+        sun_scale: f32,
+        #[serde(default = "unit")]
+        sky_scale: f32,
+        /// The sun's angular diameter in degrees, in (0, 180); its irradiance stays the same.
+        #[serde(default = "default_sun_aperture")]
+        sun_aperture: f32,
+        /// The limb-darkened solar disk instead of a uniform one.
+        #[serde(default)]
+        complex_sun: bool,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        transform: Option<TransformDesc>,
+    },
 }
 
 impl LightDesc {
@@ -119,7 +165,8 @@ impl LightDesc {
             }
             LightDesc::Directional { .. }
             | LightDesc::Constant { .. }
-            | LightDesc::Envmap { .. } => {}
+            | LightDesc::Envmap { .. }
+            | LightDesc::Sunsky { .. } => {}
         }
     }
 }
@@ -143,4 +190,14 @@ fn unit() -> f32 {
 }
 fn default_cutoff() -> f32 {
     20.0
+}
+fn default_turbidity() -> f32 {
+    3.0
+}
+fn default_albedo() -> Vec3f {
+    [0.3; 3]
+}
+/// The real sun's angular diameter in degrees, as Mitsuba's `sunsky` takes it.
+fn default_sun_aperture() -> f32 {
+    0.5358
 }

@@ -8,17 +8,14 @@ use super::Vec3f;
 use serde::{Deserialize, Serialize};
 
 macro_rules! define_material_desc {
-    ($($Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
-        /// A material: Whitted's model, one of the BSDFs of the registry
+    ($($(#[$attr:meta])* $Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
+        /// A material: one of the BSDFs of the registry
         /// ([`super::bsdf_registry`], each documented by its parameters' struct), or a wrapper
         /// around other materials.
         #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
         #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
         pub enum MaterialDesc {
-            /// Whitted's model: `ambient * ka + sum over visible lights (kd * color * cos + ks *
-            /// blinn^n) + kr * reflected + kt * transmitted`.
-            Whitted(WhittedDesc),
-            $($Variant($Desc),)*
+            $($(#[$attr])* $Variant($Desc),)*
             /// Makes one-sided materials two-sided: `front` on both sides, or `back` behind.
             TwoSided(TwoSidedDesc),
             /// Cut-outs: the surface is there with probability `opacity`, else rays pass through.
@@ -36,8 +33,8 @@ macro_rules! define_material_desc {
             /// The `type` of every BSDF, in the registry's order.
             pub const BSDF_NAMES: &'static [&'static str] = &[$(<$Desc as BsdfParams>::NAME,)*];
 
-            /// The BSDF's textures, indices of refraction, check and Whitted view; `None` for
-            /// Whitted's model and the wrappers.
+            /// The BSDF's textures, indices of refraction, and check; `None` for the
+            /// wrappers.
             fn bsdf_textures(&self) -> Option<Vec<(&'static str, &TextureDesc)>> {
                 match self {
                     $(MaterialDesc::$Variant(d) => Some(d.textures()),)*
@@ -52,7 +49,7 @@ macro_rules! define_material_desc {
                 }
             }
 
-            /// [`BsdfParams::check`] of a BSDF; wrappers and Whitted's model are checked by the
+            /// [`BsdfParams::check`] of a BSDF; wrappers are checked by the
             /// validation itself.
             pub fn check_bsdf(&self) -> Result<(), ParamError> {
                 match self {
@@ -60,20 +57,12 @@ macro_rules! define_material_desc {
                     _ => Ok(()),
                 }
             }
-
-            /// [`BsdfParams::whitted`] of a BSDF.
-            pub fn bsdf_whitted(&self) -> Option<WhittedDesc> {
-                match self {
-                    $(MaterialDesc::$Variant(d) => Some(d.whitted()),)*
-                    _ => None,
-                }
-            }
         }
     };
 }
 for_each_bsdf!(define_material_desc);
 
-/// Reads `[materials]`: a table without `type` is a Whitted material, as every material was before
+/// Reads `[materials]`: a table without `type` is a `phong` (Whitted) material, as every material was before
 /// the physically based ones, so that older scene files keep their meaning. Each entry is read
 /// through a `toml::Table` (either syntax deserializes into one) to add the missing tag; an error
 /// then points at the entry's table.
@@ -86,7 +75,7 @@ pub(super) fn deserialize_materials<'de, D: serde::Deserializer<'de>>(
             let mut table = toml::Table::deserialize(d)?;
             table
                 .entry("type")
-                .or_insert_with(|| toml::Value::String("whitted".into()));
+                .or_insert_with(|| toml::Value::String("phong".into()));
             MaterialDesc::deserialize(toml::Value::Table(table))
                 .map(WhittedByDefault)
                 .map_err(serde::de::Error::custom)
@@ -98,7 +87,7 @@ pub(super) fn deserialize_materials<'de, D: serde::Deserializer<'de>>(
 
 impl Default for MaterialDesc {
     fn default() -> Self {
-        MaterialDesc::Whitted(WhittedDesc::default())
+        MaterialDesc::Phong(PhongDesc::default())
     }
 }
 
@@ -139,62 +128,6 @@ impl MaterialDesc {
     pub fn iors(&self) -> Vec<(&'static str, &IorDesc)> {
         self.bsdf_iors()
     }
-}
-
-/// Whitted's shading model; see [`MaterialDesc::Whitted`].
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct WhittedDesc {
-    /// Base (diffuse) colour, linear RGB.
-    #[serde(default = "default_color")]
-    pub color: Vec3f,
-    /// Optional procedural checkerboard alternating `color` and `checker.color`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub checker: Option<CheckerDesc>,
-    #[serde(default = "default_ka")]
-    pub ambient: f32,
-    #[serde(default = "default_kd")]
-    pub diffuse: f32,
-    #[serde(default)]
-    pub specular: f32,
-    #[serde(default = "default_shininess")]
-    pub shininess: f32,
-    #[serde(default)]
-    pub reflection: f32,
-    #[serde(default)]
-    pub transmission: f32,
-    #[serde(default = "default_ior")]
-    pub ior: f32,
-    /// Weight reflection and transmission by the Fresnel reflectance instead of fixed coefficients.
-    #[serde(default)]
-    pub fresnel: bool,
-}
-
-impl Default for WhittedDesc {
-    fn default() -> Self {
-        Self {
-            color: default_color(),
-            checker: None,
-            ambient: default_ka(),
-            diffuse: default_kd(),
-            specular: 0.0,
-            shininess: default_shininess(),
-            reflection: 0.0,
-            transmission: 0.0,
-            ior: default_ior(),
-            fresnel: false,
-        }
-    }
-}
-
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct CheckerDesc {
-    /// The second colour of the board.
-    pub color: Vec3f,
-    /// Side of one square in surface units (scene units on planes).
-    #[serde(default = "default_checker_size")]
-    pub size: f32,
 }
 
 /// A colour or a scalar that may vary over the surface: a number (grey), `[r, g, b]`, or a table
@@ -338,22 +271,4 @@ fn default_checker0() -> Vec3f {
 }
 fn default_checker1() -> Vec3f {
     [0.2; 3]
-}
-fn default_color() -> Vec3f {
-    [0.8, 0.8, 0.8]
-}
-fn default_ka() -> f32 {
-    0.1
-}
-fn default_kd() -> f32 {
-    0.9
-}
-fn default_shininess() -> f32 {
-    32.0
-}
-fn default_ior() -> f32 {
-    1.5
-}
-fn default_checker_size() -> f32 {
-    1.0
 }

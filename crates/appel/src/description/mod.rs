@@ -35,11 +35,12 @@ pub use light::{AreaEmitterDesc, LightDesc};
 pub use material::*;
 
 macro_rules! export_bsdf_descs {
-    ($($Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
+    ($($(#[$attr:meta])* $Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
         pub use bsdf::{$($Desc,)*};
     };
 }
 bsdf_registry::for_each_bsdf!(export_bsdf_descs);
+pub use bsdf::phong::CheckerDesc;
 pub use bsdf::{BsdfParams, DistributionDesc, LayerDesc, ParamError, DEFAULT_ALPHA};
 pub use render::*;
 pub use shape::*;
@@ -305,7 +306,7 @@ impl Description {
         d.camera.eye = sc(d.camera.eye);
         d.camera.look_at = sc(d.camera.look_at);
         for m in d.materials.values_mut() {
-            if let MaterialDesc::Whitted(WhittedDesc {
+            if let MaterialDesc::Phong(PhongDesc {
                 checker: Some(c), ..
             }) = m
             {

@@ -255,11 +255,108 @@ fn light(c: &mut Checker, l: &LightDesc) -> Check {
             }
             Ok(())
         }
+        LightDesc::Sunsky {
+            sun_direction,
+            latitude,
+            longitude,
+            timezone,
+            year,
+            month,
+            day,
+            hour,
+            minute,
+            second,
+            turbidity,
+            albedo,
+            sun_scale,
+            sky_scale,
+            sun_aperture,
+            transform: t,
+            ..
+        } => {
+            let times = [
+                ("latitude", *latitude),
+                ("longitude", *longitude),
+                ("timezone", *timezone),
+                ("hour", *hour),
+                ("minute", *minute),
+                ("second", *second),
+            ];
+            let dates = [("year", *year), ("month", *month), ("day", *day)];
+            if let Some(d) = sun_direction {
+                c.finite("sun_direction", d)?;
+                if d.iter().all(|&x| x == 0.0) {
+                    return c.fail("sun_direction", "`sun_direction` must not be zero");
+                }
+                let given = times
+                    .iter()
+                    .filter(|(_, v)| v.is_some())
+                    .map(|(k, _)| *k)
+                    .chain(dates.iter().filter(|(_, v)| v.is_some()).map(|(k, _)| *k))
+                    .next();
+                if let Some(k) = given {
+                    return c.fail(
+                        k,
+                        format!("give `sun_direction` or a place and time, not both (`{k}`)"),
+                    );
+                }
+            }
+            for (k, v) in times {
+                if let Some(v) = v {
+                    if !v.is_finite() {
+                        return c.fail(k, format!("`{k}` must be finite, got {v}"));
+                    }
+                }
+            }
+            if let Some(l) = latitude {
+                if !(-90.0..=90.0).contains(l) {
+                    return c.fail(
+                        "latitude",
+                        format!("`latitude` must lie in [-90, 90], got {l}"),
+                    );
+                }
+            }
+            if let Some(m) = month {
+                if !(1..=12).contains(m) {
+                    return c.fail("month", format!("`month` must lie in [1, 12], got {m}"));
+                }
+            }
+            if let Some(d) = day {
+                if !(1..=31).contains(d) {
+                    return c.fail("day", format!("`day` must lie in [1, 31], got {d}"));
+                }
+            }
+            if !(1.0..=10.0).contains(turbidity) {
+                return c.fail(
+                    "turbidity",
+                    format!("`turbidity` must lie in [1, 10], got {turbidity}"),
+                );
+            }
+            c.non_negative("albedo", albedo)?;
+            if albedo.iter().any(|&a| a > 1.0) {
+                return c.fail(
+                    "albedo",
+                    format!("`albedo` must lie in [0, 1], got {albedo:?}"),
+                );
+            }
+            c.non_negative("sun_scale", &[*sun_scale])?;
+            c.non_negative("sky_scale", &[*sky_scale])?;
+            if !(*sun_aperture > 0.0 && *sun_aperture < 180.0) {
+                return c.fail(
+                    "sun_aperture",
+                    format!("`sun_aperture` must lie in (0, 180) degrees, got {sun_aperture}"),
+                );
+            }
+            if let Some(t) = t {
+                c.at(key("transform"), |c| transform(c, t))?;
+            }
+            Ok(())
+        }
     }
 }
 
 fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> Check {
-    if let MaterialDesc::Whitted(w) = m {
+    if let MaterialDesc::Phong(w) = m {
         c.non_negative("color", &w.color)?;
         for (k, v) in [
             ("ambient", w.ambient),

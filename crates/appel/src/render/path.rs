@@ -263,8 +263,8 @@ fn intersect_through_masks<S: Sampler>(
     let mut ray = *ray;
     for _ in 0..MAX_MASK_CROSSINGS {
         let hit = scene.intersect(&ray, f32::INFINITY, &mut ctx.traversal)?;
-        // Always with texture coordinates: `surface_hit` asks Whitted's view of the material,
-        // which knows nothing of the physically based materials' textures.
+        // Always with texture coordinates: `surface_hit` computes them only where the material
+        // reads them, and an emitting surface's radiance may read them too.
         let h = SurfaceHit {
             hit,
             si: scene.geometry.interaction_with(&ray, &hit, true),

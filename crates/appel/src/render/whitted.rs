@@ -1,6 +1,12 @@
 //! The deterministic integrators: ray casting (Appel 1968) shades the first hit locally; Whitted
 //! (1980) adds recursively traced reflected and refracted rays. They read only the film position
 //! from the sampler, so the camera rays of a row are traced together.
+//!
+//! Both read the scene's one material list and its emitters, as `path` and `direct` do: each
+//! material through its Whitted response ([`crate::shading::bsdf::Bsdf::whitted`], a `phong`
+//! material's own parameters), lit by the delta emitters (point, spot, projector and directional
+//! lights), each behind one shadow ray. Area and environment emitters have no part in the model:
+//! `environment.background` is its sky and `environment.ambient` its ambient light.
 
 use super::integrator::{
     aov_of, camera_ray, centre_aov, is_pixel_centre, surface_hit, FilmSample, Integrator, PixelRow,
@@ -12,8 +18,9 @@ use super::{PixelAov, TraceContext};
 use crate::error::Result;
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin_by, surface_offset, Ray, Vec2, Vec3};
-use crate::scene::Material;
-use crate::scene::{Light, RenderSettings, Scene, SceneHit};
+use crate::scene::{RenderSettings, Scene, SceneHit};
+use crate::shading::bsdf::Phong;
+use crate::shading::emitter::Emitter;
 
 /// Shadow rays towards a point light stop this fraction short of it (pbrt-v4's `ShadowEpsilon`):
 /// relative to the segment, so it is scale-free.
@@ -52,14 +59,8 @@ impl ShadeFirstHit for Raycast {
             return scene.background;
         };
         let origins = Origins::new(&h.si);
-        shade_locally(
-            scene,
-            scene.material(&h.hit),
-            &h.si,
-            -ray.dir,
-            &origins,
-            ctx,
-        )
+        let m = scene.whitted_material(&h.hit, h.si.uv);
+        shade_locally(scene, &m, &h.si, -ray.dir, &origins, ctx)
     }
 }
 
@@ -254,10 +255,10 @@ impl Whitted {
         let Some(SurfaceHit { hit, si }) = hit else {
             return scene.background;
         };
-        let m = scene.material(hit);
+        let m = scene.whitted_material(hit, si.uv);
         let wo = -ray.dir;
         let origins = Origins::new(si);
-        let mut color = shade_locally(scene, m, si, wo, &origins, ctx);
+        let mut color = shade_locally(scene, &m, si, wo, &origins, ctx);
         if depth >= self.max_depth || !m.is_specular() {
             return color;
         }
@@ -325,10 +326,11 @@ impl Whitted {
 }
 
 /// Whitted's local model: ambient, plus Lambertian diffuse and a Blinn-Phong highlight from every
-/// light a shadow ray reaches. Surfaces are two-sided: normals are turned towards the viewer.
+/// delta emitter a shadow ray reaches. Surfaces are two-sided: normals are turned towards the
+/// viewer.
 pub fn local_shading(
     scene: &Scene,
-    m: &Material,
+    m: &Phong,
     si: &SurfaceInteraction,
     wo: Vec3,
     ctx: &mut TraceContext,
@@ -370,38 +372,25 @@ impl<'a> Origins<'a> {
 #[inline(always)]
 fn shade_locally(
     scene: &Scene,
-    m: &Material,
+    m: &Phong,
     si: &SurfaceInteraction,
     wo: Vec3,
     origins: &Origins,
     ctx: &mut TraceContext,
 ) -> Vec3 {
-    let albedo = m.albedo(si.uv);
+    let albedo = m.albedo;
     let mut color = m.ambient * scene.ambient * albedo;
     if m.diffuse == 0.0 && m.specular == 0.0 {
         return color;
     }
     let wo = wo.normalize();
     let ns = if si.ns.dot(wo) < 0.0 { -si.ns } else { si.ns };
-    for light in &scene.lights {
+    let emitters = &scene.emitters;
+    for &e in &emitters.delta {
         // Direction and radiance first: the shadow ray is only built for a light that can reach
         // this side of the surface.
-        let (wi, radiance, target) = match *light {
-            Light::Point {
-                position,
-                intensity,
-            } => {
-                let to_light = position - si.p;
-                let d2 = to_light.length_squared();
-                if d2 == 0.0 {
-                    continue;
-                }
-                (to_light / d2.sqrt(), intensity / d2, Some(position))
-            }
-            Light::Directional {
-                direction,
-                radiance,
-            } => (-direction, radiance, None),
+        let Some((wi, radiance, target)) = delta_light(&emitters.emitters[e as usize], si.p) else {
+            continue;
         };
         let cos = ns.dot(wi);
         // A light behind the shading normal, or below the geometric surface, cannot light this side.
@@ -426,4 +415,17 @@ fn shade_locally(
         color += radiance * (m.diffuse * cos * albedo + Vec3::splat(highlight));
     }
     color
+}
+
+/// The direction toward a delta emitter from `p`, the radiance it brings (intensity over the
+/// squared distance, or a directional light's irradiance), and where a shadow ray toward it ends
+/// (`None`: at infinity). The point light, the common case, without the general dispatch.
+#[inline(always)]
+fn delta_light(light: &Emitter, p: Vec3) -> Option<(Vec3, Vec3, Option<Vec3>)> {
+    match light {
+        Emitter::Point(l) => l.sample_li(p).map(|s| (s.wi, s.weight, Some(l.position))),
+        other => other
+            .sample_li(p, Vec2::ZERO)
+            .map(|s| (s.wi, s.weight, other.position())),
+    }
 }

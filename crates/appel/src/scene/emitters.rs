@@ -7,7 +7,7 @@ use crate::description::{Description, FovAxis, LightDesc};
 use crate::error::{Error, Location, Result};
 use crate::shading::emitter::{
     AreaEmitter, ConstantEnvironment, DirectionalLight, Emitter, EnvMap, LightPicker, PointLight,
-    Projector, ShapeSampler, SpotLight,
+    Projector, ShapeSampler, SpotLight, SunPlacement, SunSky, SunSkyParams, SunTime,
 };
 use crate::shading::texture::Texture;
 use glam::{Mat4, Vec2, Vec3};
@@ -24,6 +24,9 @@ pub struct SceneEmitters {
     pub of_shape: Vec<u32>,
     /// The infinite emitters (environment), which rays leaving the scene see.
     pub infinite: Vec<u32>,
+    /// The delta emitters (points, spots, projectors, directional lights), in order: the lights
+    /// of `whitted` and `raycast`, which shade from every one with a shadow ray.
+    pub delta: Vec<u32>,
 }
 
 impl SceneEmitters {
@@ -178,6 +181,55 @@ impl SceneEmitters {
                         Error::input(Location::file(textures.path_of(file)), e.to_string())
                     })?)
                 }
+                LightDesc::Sunsky {
+                    sun_direction,
+                    latitude,
+                    longitude,
+                    timezone,
+                    year,
+                    month,
+                    day,
+                    hour,
+                    minute,
+                    second,
+                    turbidity,
+                    albedo,
+                    sun_scale,
+                    sky_scale,
+                    sun_aperture,
+                    complex_sun,
+                    transform,
+                } => {
+                    // Mitsuba's defaults for the place and time: Tokyo, 2010-07-10 15:00.
+                    let sun = match sun_direction {
+                        Some(d) => SunPlacement::Direction(Vec3::from(*d)),
+                        None => SunPlacement::Time(SunTime {
+                            latitude: latitude.unwrap_or(35.6894),
+                            longitude: longitude.unwrap_or(139.6917),
+                            timezone: timezone.unwrap_or(9.0),
+                            year: year.unwrap_or(2010),
+                            month: month.unwrap_or(7),
+                            day: day.unwrap_or(10),
+                            hour: hour.unwrap_or(15.0),
+                            minute: minute.unwrap_or(0.0),
+                            second: second.unwrap_or(0.0),
+                        }),
+                    };
+                    let params = SunSkyParams {
+                        sun,
+                        turbidity: *turbidity,
+                        albedo: *albedo,
+                        sun_scale: *sun_scale,
+                        sky_scale: *sky_scale,
+                        sun_aperture: *sun_aperture,
+                        complex_sun: *complex_sun,
+                        to_world: transform.as_ref().map_or(Mat4::IDENTITY, |t| t.matrix()),
+                    };
+                    // Fails only if the bundled model data do not read.
+                    Emitter::SunSky(
+                        SunSky::new(&params).map_err(|e| Error::Invalid(format!("sunsky: {e}")))?,
+                    )
+                }
             };
             if e.is_infinite() {
                 infinite.push(emitters.len() as u32);
@@ -195,11 +247,15 @@ impl SceneEmitters {
             e.set_scene_bounds(center, radius);
         }
         let powers: Vec<f32> = emitters.iter().map(Emitter::power).collect();
+        let delta = (0..emitters.len() as u32)
+            .filter(|&e| emitters[e as usize].is_delta())
+            .collect();
         Ok(Self {
             picker: LightPicker::new(&powers),
             emitters,
             of_shape,
             infinite,
+            delta,
         })
     }
 }

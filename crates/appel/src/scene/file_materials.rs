@@ -4,16 +4,14 @@
 //! `principled` BSDF (Burley 2012), wrapped in `twosided` unless it transmits, and in `mask` where
 //! it has alpha. An MTL material without maps keeps its Whitted-model reading
 //! ([`super::mesh_shape::material_from_file`]). Each becomes a short run of entries in the scene's
-//! material list (the wrapped materials first), with Whitted's view beside each: the base colour
-//! (times its texture's mean), so that `raycast` and `whitted` show the average colours.
+//! material list (the wrapped materials first); `raycast` and `whitted` read them through
+//! [`crate::shading::bsdf::Bsdf::whitted`] (the base colour at the point, a highlight).
 //!
 //! Textures are decoded once per image and decoding (sRGB or raw), in parallel. A factor that
 //! multiplies a texture, and the channel a parameter reads (glTF packs roughness in G and metalness
 //! in B), are baked into a derived image at load, so that lookups stay plain bitmap lookups.
 
-use super::Material as WhittedMaterial;
 use crate::description::loaded_mesh::{AlphaMode, FileMaterial, FileTexture, LoadedMesh};
-use crate::description::WhittedDesc;
 use crate::error::Result;
 use crate::io::bitmap_read::{decode_bitmap, Bitmap};
 use crate::shading::bsdf::principled::specular_to_eta;
@@ -27,7 +25,7 @@ use std::sync::Arc;
 /// One file material as scene materials: `entries` in order (indices inside refer to `first + k`),
 /// the last being the one its triangles use.
 pub struct BuiltMaterial {
-    pub entries: Vec<(WhittedMaterial, Material)>,
+    pub entries: Vec<Material>,
     /// What the surface emits (glTF `emissiveFactor` times `emissiveTexture`), if anything.
     pub emission: Option<Texture>,
 }
@@ -172,11 +170,6 @@ impl Images {
         });
         Some(self.texture(t, Arc::new(derived)))
     }
-
-    /// The mean colour of a texture times `factor` (the Whitted view).
-    fn mean_colour(&self, t: &Option<FileTexture>, factor: [f32; 3]) -> Vec3 {
-        self.colour(t, factor).mean()
-    }
 }
 
 /// A new bitmap of `channels` values per pixel computed from each pixel of `b`.
@@ -312,35 +305,26 @@ pub fn build(m: &FileMaterial, images: &Images, first: u32) -> BuiltMaterial {
             (leaf, false, None)
         }
     };
-    let whitted = WhittedMaterial::new(&WhittedDesc {
-        color: images.mean_colour(&m.diffuse_map, m.diffuse).to_array(),
-        ambient: 0.0,
-        diffuse: 1.0,
-        ..Default::default()
-    });
-    let mut entries = vec![(whitted, leaf)];
+    let mut entries = vec![leaf];
     // One-sided BSDFs are black from behind; a file's surfaces are meant to be seen from either
     // side (glTF's single-sided materials are culled by rasterisers, not blackened), so every
     // material that does not refract is made two-sided.
     if !transmits {
         let leaf = first;
-        entries.push((
-            whitted,
-            Material::TwoSided {
-                front: leaf,
-                back: leaf,
-            },
-        ));
+        entries.push(Material::TwoSided {
+            front: leaf,
+            back: leaf,
+        });
     }
     // The perturbed normal wraps the two-sided material, as the shading code expects: the map's
     // normal is read in the unmirrored frame, and the back side is mirrored inside it.
     if let Some(perturb) = perturbation(m, images, first + entries.len() as u32 - 1) {
-        entries.push((whitted, perturb));
+        entries.push(perturb);
     }
     let opacity = coverage(m, images);
     if let Some(opacity) = opacity {
         let inner = first + entries.len() as u32 - 1;
-        entries.push((whitted, Material::Mask { opacity, inner }));
+        entries.push(Material::Mask { opacity, inner });
     }
     BuiltMaterial { entries, emission }
 }

@@ -3,11 +3,12 @@
 use super::instance::{Instance, Prototype};
 use super::mesh_shape::{add_mesh_file, FileExtras};
 use super::progress::Steps;
-use super::{Geometry, Material, RenderSettings};
+use super::{Geometry, RenderSettings};
 use crate::description::Description;
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
 use crate::io::placements::read_placements;
+use crate::shading::material::Material;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;

@@ -2,22 +2,23 @@
 //! shape names one.
 
 use super::file_materials::{self, is_physically_based, Images};
-use super::{Geometry, Instance, Material, Prototype};
+use super::{Geometry, Instance, Prototype};
 use crate::accel::{AccelKind, AccelOptions};
 use crate::description::loaded_mesh::{FileCamera, FileMaterial};
-use crate::description::{LightDesc, TransformDesc, WhittedDesc};
+use crate::description::{LightDesc, PhongDesc, TransformDesc};
 use crate::error::{Error, Location, Result};
 use crate::geometry::InstanceTransform;
 use crate::io::load_mesh;
 use crate::io::vertex_normals::angle_weighted;
+use crate::shading::bsdf::PhongParams;
+use crate::shading::material::Material;
 use crate::shading::texture::Texture;
 use std::path::Path;
 
-/// What mesh files bring besides triangles: their physically based materials (by index in the
-/// scene's material list), emitting surfaces, lights, cameras and warnings.
+/// What mesh files bring besides triangles and materials: emitting surfaces, lights, cameras and
+/// warnings.
 #[derive(Clone, Debug, Default)]
 pub struct FileExtras {
-    pub shading: Vec<(u32, crate::shading::material::Material)>,
     /// Top-level surfaces (by `Geometry::shapes` index) that emit, with their radiance.
     pub emission: Vec<(u32, Texture)>,
     pub lights: Vec<LightDesc>,
@@ -89,10 +90,7 @@ pub(super) fn add_mesh_file(
                 extras.physically_based = true;
                 let first = materials.len() as u32;
                 let built = file_materials::build(m, &images, first);
-                for (k, (whitted, shading)) in built.entries.into_iter().enumerate() {
-                    materials.push(whitted);
-                    extras.shading.push((first + k as u32, shading));
-                }
+                materials.extend(built.entries);
                 file_material.push(materials.len() as u32 - 1);
                 emission.push(built.emission);
             } else {
@@ -182,12 +180,12 @@ pub(super) fn add_mesh_file(
     Ok(())
 }
 
-/// A file's material in Whitted's model (see `docs/meshes.md`): `Kd` is the diffuse colour with
+/// A file's material in Whitted's model, `phong` (see `docs/meshes.md`): `Kd` is the diffuse colour with
 /// coefficient 1, the largest component of `Ks` the specular coefficient, `Ns` the Blinn exponent,
 /// `1 - d` the transmission with `Ni` as its index of refraction.
 pub fn material_from_file(m: &FileMaterial) -> Material {
     let clamp = |x: f32| if x.is_finite() { x.max(0.0) } else { 0.0 };
-    let d = WhittedDesc {
+    let d = PhongDesc {
         color: m.diffuse.map(clamp),
         diffuse: 1.0,
         specular: clamp(m.specular.into_iter().fold(0.0, f32::max)),
@@ -200,5 +198,5 @@ pub fn material_from_file(m: &FileMaterial) -> Material {
         },
         ..Default::default()
     };
-    Material::new(&d)
+    Material::Phong(PhongParams::from_desc(&d))
 }

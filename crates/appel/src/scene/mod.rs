@@ -10,8 +10,6 @@ mod frame;
 mod geometry;
 mod instance;
 mod instance_entries;
-mod light;
-mod material;
 mod memory;
 mod mesh_shape;
 mod progress;
@@ -29,8 +27,6 @@ pub use geometry::{
     Geometry, PrimRef, PrimRefs, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE,
 };
 pub use instance::{Instance, Prototype};
-pub use light::Light;
-pub use material::{Checker, Material};
 pub use memory::{estimate_memory, MemoryEstimate};
 pub use mesh_shape::FileExtras;
 pub use progress::{LoadStep, SceneOptions};
@@ -82,16 +78,16 @@ pub struct Scene {
     pub settings: RenderSettings,
     pub geometry: Geometry,
     pub accel: Accel,
-    pub materials: Vec<Material>,
-    /// The Monte Carlo integrators' materials, indexed as `materials`.
+    /// The materials of every integrator, by the index each surface carries (see
+    /// [`crate::shading::material::Material`]).
     pub shading_materials: Vec<crate::shading::material::Material>,
     /// Whether any material is a mask (cut-outs), which rays must then step through.
     pub has_masks: bool,
-    /// Whitted's lights.
-    pub lights: Vec<Light>,
-    /// The Monte Carlo integrators' lights: every `[[light]]` and emitting surface.
+    /// The lights of every integrator: every `[[light]]` and emitting surface.
     pub emitters: SceneEmitters,
+    /// What `whitted` and `raycast` show where a ray leaves the scene.
     pub background: Vec3,
+    /// The ambient light of `whitted` and `raycast`, weighted by each material's `ambient`.
     pub ambient: Vec3,
     pub timings: SceneTimings,
     /// What the scene's mesh files brought besides triangles (materials, emitting surfaces, lights,
@@ -159,12 +155,8 @@ impl Scene {
         let triangle_test = TriangleTest::from_name(&d.render.triangle).unwrap_or_default();
         // Material 0 is the default grey diffuse of shapes that name none.
         let names: Vec<&String> = d.materials.keys().collect();
-        let mut materials = vec![Material::new(&Default::default())];
-        materials.extend(
-            d.materials
-                .values()
-                .map(|m| Material::approximating(m, &d.materials)),
-        );
+        let mut textures = textures::TextureCache::new(base_dir);
+        let mut materials = shading_materials::build(d, &mut textures)?;
         let mut geometry = Geometry::new(triangle_test);
         let mut from_files = FileExtras::default();
         for (index, s) in d.shapes.iter().enumerate() {
@@ -331,21 +323,16 @@ impl Scene {
         };
         let accel = Accel::build_with(top_level, &geometry, &settings.accel_options);
         let build = build_start.elapsed() + prototype_build;
-        let mut textures = textures::TextureCache::new(base_dir);
         let emitters = SceneEmitters::build(d, &geometry, &from_files.emission, &mut textures)?;
-        let shading_materials =
-            shading_materials::build(d, &materials, &from_files.shading, &mut textures)?;
-        let has_masks = shading_materials.iter().any(|m| m.has_mask());
+        let has_masks = materials.iter().any(|m| m.has_mask());
         steps.step("built the top-level structure")?;
         Ok(Scene {
             camera: Camera::new(&d.camera),
             settings,
             geometry,
             accel,
-            materials,
-            lights: d.lights.iter().filter_map(Light::new).collect(),
+            shading_materials: materials,
             emitters,
-            shading_materials,
             has_masks,
             background: d.environment.background.into(),
             ambient: d.environment.ambient.into(),
@@ -358,7 +345,6 @@ impl Scene {
     /// used to frame a bare mesh file once its bounds are known.
     pub fn set_view(&mut self, d: &Description) -> Result<()> {
         self.camera = Camera::new(&d.camera);
-        self.lights = d.lights.iter().filter_map(Light::new).collect();
         self.emitters = SceneEmitters::build(
             d,
             &self.geometry,

@@ -1,9 +1,11 @@
 //! The scene's ray queries: the acceleration structure's closest and any hit, then the unbounded
 //! planes it leaves out.
 
-use super::{Material, Scene, SceneHit};
+use super::{Scene, SceneHit};
 use crate::accel::{Hit, Primitives, TraversalStats};
-use crate::math::Ray;
+use crate::math::{Ray, Vec2};
+use crate::shading::bsdf::Phong;
+use crate::shading::material::Material;
 
 impl Scene {
     /// Closest hit in `(0, t_max)`.
@@ -64,7 +66,19 @@ impl Scene {
     /// The material of the surface hit.
     #[inline]
     pub fn material(&self, hit: &SceneHit) -> &Material {
-        &self.materials[self.geometry.material(hit) as usize]
+        &self.shading_materials[self.geometry.material(hit) as usize]
+    }
+
+    /// What `whitted` and `raycast` read of the material hit, at texture coordinates `uv` (see
+    /// [`Material::whitted`]).
+    #[inline(always)]
+    pub fn whitted_material(&self, hit: &SceneHit, uv: Vec2) -> Phong {
+        Material::whitted(
+            &self.shading_materials,
+            self.geometry.material(hit),
+            uv,
+            || self.geometry.attributes_at(hit),
+        )
     }
 
     /// Whether the structure is a single leaf holding every primitive (a scene of a few spheres and

@@ -2,7 +2,7 @@
 //! point into a BSDF of plain values ([`AnyBsdf`]) (pbrt-v4's Material -> BSDF split). What depends only on
 //! constants (the plastics' precomputed albedos) is computed once, at scene load.
 
-use super::bsdf::{AnyBsdf, BsdfFlags, BsdfMaterial, BsdfSample, Diffuse, TextureSource};
+use super::bsdf::{AnyBsdf, BsdfFlags, BsdfMaterial, BsdfSample, Diffuse, Phong, TextureSource};
 pub use super::bsdf::{PrincipledTextures, PrincipledThinTextures, Roughness};
 use super::frame::ShadingFrame;
 use super::perturb::{normal_from_bump, normal_from_map, Perturbation};
@@ -12,7 +12,7 @@ use crate::error::Result;
 use crate::math::{Vec2, Vec3};
 
 macro_rules! define_material {
-    ($($Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
+    ($($(#[$attr:meta])* $Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
         use super::bsdf::{$($Material,)*};
 
         /// A material of the Monte Carlo integrators: one of the BSDFs with its textures, or a
@@ -59,8 +59,8 @@ macro_rules! define_material {
         }
 
         impl Material {
-            /// The material of a described BSDF, its textures from `textures`; `None` for
-            /// Whitted's model and the wrappers, which the scene resolves itself.
+            /// The material of a described BSDF, its textures from `textures`; `None` for the
+            /// wrappers, which the scene resolves itself.
             pub fn from_bsdf_desc(
                 d: &MaterialDesc,
                 textures: &mut dyn TextureSource,
@@ -340,6 +340,59 @@ impl Material {
 
     pub fn has_mask(&self) -> bool {
         matches!(self, Material::Mask { .. })
+    }
+
+    /// Whether the material reads texture coordinates: surfaces may skip computing them
+    /// otherwise (a `phong` material without a checkerboard, as most of Whitted's are).
+    #[inline(always)]
+    pub fn needs_uv(&self) -> bool {
+        match self {
+            Material::Phong(p) => p.needs_uv(),
+            _ => true,
+        }
+    }
+
+    /// What the `whitted` and `raycast` integrators read of material `index` at `uv`: a `phong`
+    /// material's own lobes, any other BSDF's [`super::bsdf::Bsdf::whitted`] response. `attributes` (asked
+    /// only for the latter) are the mesh attributes of the point.
+    #[inline(always)]
+    pub fn whitted<'a>(
+        materials: &'a [Material],
+        index: u32,
+        uv: Vec2,
+        attributes: impl FnOnce() -> Option<AttributePoint<'a>>,
+    ) -> Phong {
+        match &materials[index as usize] {
+            Material::Phong(p) => p.at_uv(uv),
+            _ => Self::whitted_of_bsdf(
+                materials,
+                index,
+                &TexPoint {
+                    uv,
+                    attributes: attributes(),
+                },
+            ),
+        }
+    }
+
+    /// [`Self::whitted`] of a material other than `phong`, out of line. Whitted's surfaces are
+    /// two-sided and are not cut out, and its rays follow the geometric surface: a two-sided
+    /// material is seen as its front, a mask or a normal or bump map as the material inside it, a
+    /// blend as its first BSDF.
+    #[inline(never)]
+    fn whitted_of_bsdf(materials: &[Material], index: u32, tp: &TexPoint) -> Phong {
+        let mut m = &materials[index as usize];
+        for _ in 0..MAX_NESTING {
+            m = match m {
+                Material::TwoSided { front, .. } => &materials[*front as usize],
+                Material::Mask { inner, .. }
+                | Material::NormalMap { inner, .. }
+                | Material::BumpMap { inner, .. } => &materials[*inner as usize],
+                Material::Blend { first, .. } => &materials[*first as usize],
+                _ => break,
+            };
+        }
+        m.leaf_bsdf(tp).whitted()
     }
 }
 

@@ -4,8 +4,8 @@
 
 use super::coateddiffuse::{alphas, check_alphas, check_eta, layer, LayerDesc};
 use super::conductor::check_metal;
-use super::{whitted_base, zero, BsdfParams, ParamError};
-use crate::description::{TextureDesc, Vec3f, WhittedDesc};
+use super::{zero, BsdfParams, ParamError};
+use crate::description::{TextureDesc, Vec3f};
 use serde::{Deserialize, Serialize};
 
 /// A conductor under a dielectric coating; pbrt-v4's parameters (`interface.X` and
@@ -140,14 +140,5 @@ impl BsdfParams for CoatedConductorDesc {
             ..e
         })?;
         self.layer().check()
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        WhittedDesc {
-            color: [1.0; 3],
-            diffuse: 0.0,
-            reflection: 1.0,
-            ..whitted_base()
-        }
     }
 }

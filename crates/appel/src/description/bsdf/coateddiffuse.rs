@@ -3,8 +3,8 @@
 //! al. 2018, "Position-free Monte Carlo simulation for arbitrary layered BSDFs"; Pharr, Jakob
 //! and Humphreys, "Physically Based Rendering", 4th ed., section 14.3).
 
-use super::{grey, half, whitted_base, zero, BsdfParams, ParamError};
-use crate::description::{TextureDesc, WhittedDesc};
+use super::{half, zero, BsdfParams, ParamError};
+use crate::description::{TextureDesc};
 use serde::{Deserialize, Serialize};
 
 /// A diffuse base under a dielectric coating; pbrt-v4's parameters and defaults. The coating's
@@ -181,16 +181,6 @@ impl BsdfParams for CoatedDiffuseDesc {
         check_eta("eta", self.eta)?;
         check_alphas(("alpha_u", &self.alpha_u), ("alpha_v", &self.alpha_v))?;
         self.layer().check()
-    }
-
-    /// The base, with the coating as a highlight (as the plastics).
-    fn whitted(&self) -> WhittedDesc {
-        WhittedDesc {
-            color: grey(&self.reflectance),
-            specular: 1.0,
-            shininess: 200.0,
-            ..whitted_base()
-        }
     }
 }
 

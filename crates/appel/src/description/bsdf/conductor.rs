@@ -1,7 +1,7 @@
 //! Mitsuba's `conductor`: a smooth metal, a mirror weighted by the complex Fresnel reflectance.
 
-use super::{grey, one, whitted_base, BsdfParams, ParamError};
-use crate::description::{TextureDesc, Vec3f, WhittedDesc};
+use super::{one, BsdfParams, ParamError};
+use crate::description::{TextureDesc, Vec3f};
 use crate::description::spectra;
 use serde::{Deserialize, Serialize};
 
@@ -32,15 +32,6 @@ impl BsdfParams for ConductorDesc {
 
     fn check(&self) -> Result<(), ParamError> {
         check_metal(self.material.as_deref(), self.eta, self.k)
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        WhittedDesc {
-            color: grey(&self.specular_reflectance),
-            diffuse: 0.0,
-            reflection: 1.0,
-            ..whitted_base()
-        }
     }
 }
 

@@ -1,7 +1,7 @@
 //! Mitsuba's `dielectric`: a smooth interface between two indices of refraction.
 
-use super::{air, bk7, one, whitted_base, whitted_ior, BsdfParams};
-use crate::description::{IorDesc, TextureDesc, WhittedDesc};
+use super::{air, bk7, one, BsdfParams};
+use crate::description::{IorDesc, TextureDesc};
 use serde::{Deserialize, Serialize};
 
 /// A smooth interface between two indices of refraction.
@@ -31,21 +31,5 @@ impl BsdfParams for DielectricDesc {
 
     fn iors(&self) -> Vec<(&'static str, &IorDesc)> {
         vec![("int_ior", &self.int_ior), ("ext_ior", &self.ext_ior)]
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        glass(&self.int_ior, &self.ext_ior)
-    }
-}
-
-/// Whitted's view of the dielectrics: Fresnel-weighted reflection and transmission.
-pub(crate) fn glass(int_ior: &IorDesc, ext_ior: &IorDesc) -> WhittedDesc {
-    WhittedDesc {
-        diffuse: 0.0,
-        transmission: 1.0,
-        reflection: 1.0,
-        fresnel: true,
-        ior: whitted_ior(int_ior, ext_ior),
-        ..whitted_base()
     }
 }

@@ -1,7 +1,7 @@
 //! Mitsuba's `diffuse`: Lambertian reflection.
 
-use super::{grey, half, whitted_base, BsdfParams};
-use crate::description::{TextureDesc, WhittedDesc};
+use super::{half, BsdfParams};
+use crate::description::{TextureDesc};
 use serde::{Deserialize, Serialize};
 
 /// Lambertian reflection.
@@ -17,12 +17,5 @@ impl BsdfParams for DiffuseDesc {
 
     fn textures(&self) -> Vec<(&'static str, &TextureDesc)> {
         vec![("reflectance", &self.reflectance)]
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        WhittedDesc {
-            color: grey(&self.reflectance),
-            ..whitted_base()
-        }
     }
 }

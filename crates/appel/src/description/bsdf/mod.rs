@@ -1,9 +1,9 @@
 //! The parameters of each BSDF as the scene file gives them, one file per BSDF (listed in
 //! [`super::bsdf_registry`]): its struct, Mitsuba's (or pbrt's) keys and defaults, the checks
-//! beyond "each texture and index of refraction makes sense", and Whitted's view of it.
+//! beyond "each texture and index of refraction makes sense".
 
 use super::bsdf_registry::{for_each_bsdf, same_name_ignoring_case};
-use super::{IorDesc, TextureDesc, TextureNode, WhittedDesc};
+use super::{IorDesc, TextureDesc};
 use serde::{Deserialize, Serialize};
 
 /// A BSDF's parameters in the description.
@@ -23,10 +23,6 @@ pub trait BsdfParams {
     fn check(&self) -> Result<(), ParamError> {
         Ok(())
     }
-
-    /// Whitted's model nearest to the BSDF, so that `raycast` and `whitted` render every scene
-    /// (documented in docs/scene-format.md).
-    fn whitted(&self) -> WhittedDesc;
 }
 
 /// A parameter that makes no sense: its key (the loader turns it into a line) and why.
@@ -46,7 +42,7 @@ impl ParamError {
 }
 
 macro_rules! define_bsdf_descs {
-    ($($Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
+    ($($(#[$attr:meta])* $Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
         $(pub mod $module;)*
         $(pub use $module::$Desc;)*
 
@@ -136,38 +132,6 @@ macro_rules! rough_fields {
     };
 }
 pub(crate) use rough_fields;
-
-/// Whitted's base for the physically based materials: no ambient term, full diffuse weight.
-pub(crate) fn whitted_base() -> WhittedDesc {
-    WhittedDesc {
-        ambient: 0.0,
-        diffuse: 1.0,
-        ..Default::default()
-    }
-}
-
-/// A texture's colour for Whitted's view: constants as they are, a checkerboard by its first
-/// colour, images and mesh attributes as mid grey.
-pub(crate) fn grey(t: &TextureDesc) -> [f32; 3] {
-    match t {
-        TextureDesc::Value(v) => [*v; 3],
-        TextureDesc::Rgb(c) => *c,
-        TextureDesc::Texture(TextureNode::Checkerboard { color0, .. }) => *color0,
-        TextureDesc::Texture(TextureNode::Bitmap { .. } | TextureNode::MeshAttribute { .. }) => {
-            [0.5; 3]
-        }
-    }
-}
-
-/// The ratio of two indices for Whitted's view: names other than air and vacuum as 1.5.
-pub(crate) fn whitted_ior(int: &IorDesc, ext: &IorDesc) -> f32 {
-    let v = |x: &IorDesc| match x {
-        IorDesc::Value(v) => *v,
-        IorDesc::Named(n) if n == "air" || n == "vacuum" => 1.0,
-        IorDesc::Named(_) => 1.5,
-    };
-    v(int) / v(ext)
-}
 
 pub(crate) fn half() -> TextureDesc {
     TextureDesc::Value(0.5)

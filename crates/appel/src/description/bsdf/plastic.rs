@@ -1,7 +1,7 @@
 //! Mitsuba's `plastic`: a diffuse base under a smooth dielectric coating.
 
-use super::{air, grey, half, one, polypropylene, whitted_base, BsdfParams};
-use crate::description::{IorDesc, TextureDesc, WhittedDesc};
+use super::{air, half, one, polypropylene, BsdfParams};
+use crate::description::{IorDesc, TextureDesc};
 use serde::{Deserialize, Serialize};
 
 /// A diffuse base under a smooth dielectric coating.
@@ -34,14 +34,5 @@ impl BsdfParams for PlasticDesc {
 
     fn iors(&self) -> Vec<(&'static str, &IorDesc)> {
         vec![("int_ior", &self.int_ior), ("ext_ior", &self.ext_ior)]
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        WhittedDesc {
-            color: grey(&self.diffuse_reflectance),
-            specular: 1.0,
-            shininess: 200.0,
-            ..whitted_base()
-        }
     }
 }

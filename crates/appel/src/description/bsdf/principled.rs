@@ -1,8 +1,8 @@
 //! Mitsuba's `principled`: Burley's Disney BSDF (diffuse with retro-reflection and sheen, a GGX
 //! specular lobe blending dielectric, metallic and transmitting responses, a clearcoat).
 
-use super::{grey, half, non_negative, one_f, whitted_base, zero, BsdfParams, ParamError};
-use crate::description::{TextureDesc, WhittedDesc};
+use super::{half, non_negative, one_f, zero, BsdfParams, ParamError};
+use crate::description::{TextureDesc};
 use serde::{Deserialize, Serialize};
 
 /// Mitsuba's `principled`, key for key: every weight is a texture in [0, 1] (Burley 2012).
@@ -100,15 +100,5 @@ impl BsdfParams for PrincipledDesc {
             non_negative(k, &[v])?;
         }
         Ok(())
-    }
-
-    /// The diffuse base, with the glossy lobe as a highlight.
-    fn whitted(&self) -> WhittedDesc {
-        WhittedDesc {
-            color: grey(&self.base_color),
-            specular: 0.5,
-            shininess: 50.0,
-            ..whitted_base()
-        }
     }
 }

@@ -1,9 +1,9 @@
 //! Mitsuba's `principledthin`: the Disney BSDF of a thin sheet (leaves, paper, fabric).
 
 use super::{
-    grey, half, non_negative, one_and_a_half, one_f, whitted_base, zero, BsdfParams, ParamError,
+    half, non_negative, one_and_a_half, one_f, zero, BsdfParams, ParamError,
 };
-use crate::description::{TextureDesc, WhittedDesc};
+use crate::description::{TextureDesc};
 use serde::{Deserialize, Serialize};
 
 /// Mitsuba's `principledthin`, key for key.
@@ -83,12 +83,5 @@ impl BsdfParams for PrincipledThinDesc {
             non_negative(k, &[v])?;
         }
         Ok(())
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        WhittedDesc {
-            color: grey(&self.base_color),
-            ..whitted_base()
-        }
     }
 }

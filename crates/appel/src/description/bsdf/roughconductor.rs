@@ -2,8 +2,8 @@
 //! conductor's Fresnel reflectance.
 
 use super::conductor::check_metal;
-use super::{grey, one, rough_fields, whitted_base, BsdfParams, ParamError};
-use crate::description::{TextureDesc, Vec3f, WhittedDesc};
+use super::{one, rough_fields, BsdfParams, ParamError};
+use crate::description::{TextureDesc, Vec3f};
 
 rough_fields! {
     /// A rough metal; `material`, `eta` and `k` as for [`super::ConductorDesc`].
@@ -31,14 +31,5 @@ impl BsdfParams for RoughConductorDesc {
 
     fn check(&self) -> Result<(), ParamError> {
         check_metal(self.material.as_deref(), self.eta, self.k)
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        WhittedDesc {
-            color: grey(&self.specular_reflectance),
-            diffuse: 0.0,
-            reflection: 1.0,
-            ..whitted_base()
-        }
     }
 }

@@ -1,9 +1,8 @@
 //! Mitsuba's `roughdielectric`: a rough interface between two indices of refraction (Walter et
 //! al. 2007).
 
-use super::dielectric::glass;
 use super::{air, bk7, one, rough_fields, BsdfParams};
-use crate::description::{IorDesc, TextureDesc, WhittedDesc};
+use crate::description::{IorDesc, TextureDesc};
 
 rough_fields! {
     /// A rough dielectric interface.
@@ -35,9 +34,5 @@ impl BsdfParams for RoughDielectricDesc {
 
     fn iors(&self) -> Vec<(&'static str, &IorDesc)> {
         vec![("int_ior", &self.int_ior), ("ext_ior", &self.ext_ior)]
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        glass(&self.int_ior, &self.ext_ior)
     }
 }

@@ -1,10 +1,10 @@
 //! Mitsuba's `roughplastic`: a diffuse base under a rough dielectric coating.
 
 use super::{
-    air, grey, half, one, polypropylene, rough_fields, whitted_base, BsdfParams, ParamError,
+    air, half, one, polypropylene, rough_fields, BsdfParams, ParamError,
     DEFAULT_ALPHA,
 };
-use crate::description::{IorDesc, TextureDesc, WhittedDesc};
+use crate::description::{IorDesc, TextureDesc};
 
 rough_fields! {
     /// A diffuse base under a rough dielectric coating. Isotropic: `alpha_v` is not read.
@@ -64,14 +64,5 @@ impl BsdfParams for RoughPlasticDesc {
 
     fn check(&self) -> Result<(), ParamError> {
         self.constant_alpha().map(|_| ())
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        WhittedDesc {
-            color: grey(&self.diffuse_reflectance),
-            specular: 1.0,
-            shininess: 30.0,
-            ..whitted_base()
-        }
     }
 }

@@ -1,9 +1,8 @@
 //! Mitsuba's `thindielectric`: an infinitely thin dielectric sheet (window glass), with no
 //! refraction and the inter-reflections inside the sheet summed.
 
-use super::dielectric::glass;
 use super::{air, bk7, one, BsdfParams};
-use crate::description::{IorDesc, TextureDesc, WhittedDesc};
+use crate::description::{IorDesc, TextureDesc};
 use serde::{Deserialize, Serialize};
 
 /// An infinitely thin dielectric sheet; the keys of [`super::DielectricDesc`].
@@ -32,9 +31,5 @@ impl BsdfParams for ThinDielectricDesc {
 
     fn iors(&self) -> Vec<(&'static str, &IorDesc)> {
         vec![("int_ior", &self.int_ior), ("ext_ior", &self.ext_ior)]
-    }
-
-    fn whitted(&self) -> WhittedDesc {
-        glass(&self.int_ior, &self.ext_ior)
     }
 }

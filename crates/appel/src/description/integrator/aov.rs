@@ -25,7 +25,7 @@ pub struct AovParams {
 /// What an AOV holds, by Mitsuba's type name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AovType {
-    /// Distance from the camera's origin along the unit ray (0 where the ray hits nothing).
+    /// Distance along the unit camera ray from its origin (0 where the ray hits nothing).
     Depth,
     /// World-space position of the hit.
     Position,

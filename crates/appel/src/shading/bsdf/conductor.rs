@@ -2,7 +2,7 @@
 //! `conductor`.
 
 use super::fresnel::{fresnel_conductor, reflect};
-use super::{Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{BsdfMaterial, TextureSource};
 use crate::error::{Error, Result};
@@ -31,6 +31,11 @@ impl Conductor {
 }
 
 impl Bsdf for Conductor {
+    /// A mirror tinted by the specular reflectance.
+    fn whitted(&self) -> Phong {
+        Phong::mirror(self.specular_reflectance)
+    }
+
     #[inline]
     fn sample(&self, wo: Vec3, _u1: f32, _u2: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {

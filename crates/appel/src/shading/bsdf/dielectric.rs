@@ -2,7 +2,7 @@
 //! refraction, Mitsuba's `dielectric`.
 
 use super::fresnel::{fresnel_dielectric, reflect, refract};
-use super::{Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, BsdfMaterial, TextureSource};
 use crate::error::Result;
@@ -28,6 +28,11 @@ impl Dielectric {
 }
 
 impl Bsdf for Dielectric {
+    /// Fresnel-weighted reflection and refraction.
+    fn whitted(&self) -> Phong {
+        Phong::glass(self.eta)
+    }
+
     /// Reflection with probability `F`, else refraction, so the weight carries no Fresnel factor;
     /// refracted radiance is scaled by `1 / eta²` of the crossing (Veach 1997, section 5.2: radiance
     /// is compressed into the smaller solid angle of the denser medium).

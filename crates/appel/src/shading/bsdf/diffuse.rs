@@ -1,7 +1,7 @@
 //! Ideal diffuse (Lambertian) reflection, Mitsuba's `diffuse`.
 
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 use super::BsdfMaterial;
@@ -22,6 +22,11 @@ impl Diffuse {
 }
 
 impl Bsdf for Diffuse {
+    /// Lambertian reflection is Whitted's diffuse lobe.
+    fn whitted(&self) -> Phong {
+        Phong::matte(self.reflectance)
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z <= 0.0 || wi.z <= 0.0 {

@@ -19,7 +19,7 @@
 use super::fresnel::fresnel_dielectric;
 use super::microfacet::{Microfacet, MicrofacetKind};
 use super::{mulsign, Bsdf, BsdfFlags, BsdfSample, Conductor, Dielectric, RoughConductor};
-use super::{Diffuse, RoughDielectric};
+use super::{Diffuse, Phong, RoughDielectric};
 use crate::math::{Vec2, Vec3};
 use crate::shading::frame::ShadingFrame;
 use std::f32::consts::PI;
@@ -192,9 +192,15 @@ pub trait Base: Copy {
     fn is_specular(&self) -> bool;
     /// Its smooth lobe: diffuse or glossy.
     fn smooth_lobe(&self) -> BsdfFlags;
+    /// Whitted's response of the base under its coating ([`Bsdf::whitted`]).
+    fn whitted_coated(&self) -> Phong;
 }
 
 impl Base for Diffuse {
+    /// The diffuse base with the coating as a sharp highlight, as `plastic`.
+    fn whitted_coated(&self) -> Phong {
+        Phong::coated(self.reflectance, 200.0)
+    }
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         Bsdf::eval(self, wo, wi)
@@ -240,6 +246,10 @@ impl Metal {
 }
 
 impl Base for Metal {
+    /// A mirror: Whitted's recursion follows delta directions only.
+    fn whitted_coated(&self) -> Phong {
+        Phong::mirror(Vec3::ONE)
+    }
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if self.is_specular() {
@@ -551,6 +561,10 @@ impl<B: Base> Layered<B> {
 }
 
 impl<B: Base> Bsdf for Layered<B> {
+    fn whitted(&self) -> Phong {
+        self.base.whitted_coated()
+    }
+
     /// A Monte Carlo estimate (unbiased) of `f(wo, wi) cos θi`, deterministic in the directions.
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z <= 0.0 || wi.z <= 0.0 {

@@ -1,7 +1,9 @@
 //! The BSDFs of the path tracer, matching Mitsuba 3's plugins of the same names (RGB mode,
 //! radiance transport): `diffuse`, `conductor`, `roughconductor`, `dielectric`, `thindielectric`,
-//! `roughdielectric`, `plastic`, `roughplastic`, `principled`, `principledthin`; and pbrt-v4's
-//! stochastic layered `coateddiffuse` and `coatedconductor` ([`layered`]).
+//! `roughdielectric`, `plastic`, `roughplastic`, `principled`, `principledthin`; pbrt-v4's
+//! stochastic layered `coateddiffuse` and `coatedconductor` ([`layered`]); and `phong`, Whitted's
+//! model, which the `whitted` and `raycast` integrators read through [`Bsdf::whitted`], the
+//! Whitted response every BSDF has.
 //!
 //! Directions are in the local shading frame (`z` = shading normal, see
 //! [`crate::shading::frame::ShadingFrame`]), unit length, both pointing away from the surface: `wo`
@@ -28,6 +30,7 @@ pub mod warp;
 mod tests;
 
 pub use microfacet::{Microfacet, MicrofacetKind};
+pub use phong::Checker;
 pub use plastic::PlasticParams;
 pub use principled::PrincipledTextures;
 pub use principledthin::PrincipledThinTextures;
@@ -134,6 +137,13 @@ pub trait Bsdf: Copy {
 
     /// The lobes this BSDF has.
     fn flags(&self) -> BsdfFlags;
+
+    /// The BSDF as the `whitted` and `raycast` integrators see it, its lobes as Phong's
+    /// ([`phong`]): a diffuse lobe as the Lambertian one, delta reflection as the mirror, delta
+    /// refraction as the refraction (with the Fresnel weights of the dielectric), a glossy coating
+    /// as a Blinn highlight. Those integrators follow delta directions only, so rough metals are
+    /// mirrors and rough glass is smooth glass.
+    fn whitted(&self) -> Phong;
 }
 
 /// Where a material's textures come from: the scene's cache of decoded images.
@@ -159,7 +169,7 @@ pub trait BsdfMaterial: Sized {
 }
 
 macro_rules! define_bsdfs {
-    ($($Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
+    ($($(#[$attr:meta])* $Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
         $(pub mod $module;)*
         $(pub use $module::{$Bsdf, $Material};)*
 
@@ -208,6 +218,14 @@ macro_rules! define_bsdfs {
             pub fn flags(&self) -> BsdfFlags {
                 match self {
                     $(AnyBsdf::$Variant(b) => b.flags(),)*
+                }
+            }
+
+            /// See [`Bsdf::whitted`].
+            #[inline]
+            pub fn whitted(&self) -> Phong {
+                match self {
+                    $(AnyBsdf::$Variant(b) => b.whitted(),)*
                 }
             }
         }

@@ -4,7 +4,7 @@
 
 use super::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance, reflect};
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, texture_mean, BsdfMaterial, TextureSource};
 use crate::error::Result;
@@ -86,6 +86,11 @@ impl Plastic {
 }
 
 impl Bsdf for Plastic {
+    /// The diffuse base with the smooth coating as a sharp highlight.
+    fn whitted(&self) -> Phong {
+        Phong::coated(self.diffuse_reflectance, 200.0)
+    }
+
     /// Only the diffuse lobe: light enters the coating (`1 - F(θi)`), is diffused, leaves it
     /// (`1 - F(θo)`), and the radiance leaving is that inside scaled by `1 / η²` (Veach 1997,
     /// section 5.2: the solid angle widens on the way out).

@@ -19,7 +19,7 @@
 use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
 use super::microfacet::{Microfacet, MicrofacetKind};
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{mulsign, Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use crate::shading::texture::luminance;
 use std::f32::consts::{FRAC_1_PI, PI};
@@ -300,6 +300,15 @@ impl Principled {
 }
 
 impl Bsdf for Principled {
+    /// The diffuse base, with the glossy lobe as a highlight.
+    fn whitted(&self) -> Phong {
+        Phong {
+            specular: 0.5,
+            shininess: 50.0,
+            ..Phong::matte(self.base_color)
+        }
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         let cos_o = wo.z;

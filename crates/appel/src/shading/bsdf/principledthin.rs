@@ -11,7 +11,7 @@ use super::principled::{
     schlick_weight, sheen_color, tint,
 };
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{mulsign, Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 use super::{BsdfMaterial, TextureSource};
@@ -85,6 +85,11 @@ impl PrincipledThin {
 }
 
 impl Bsdf for PrincipledThin {
+    /// The diffuse base.
+    fn whitted(&self) -> Phong {
+        Phong::matte(self.base_color)
+    }
+
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z == 0.0 {
             return Vec3::ZERO;

@@ -3,7 +3,7 @@
 
 use super::fresnel::{fresnel_conductor, reflect_about};
 use super::microfacet::Microfacet;
-use super::{Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::conductor::metal;
 use super::{BsdfMaterial, Roughness, TextureSource};
@@ -36,6 +36,12 @@ impl RoughConductor {
 }
 
 impl Bsdf for RoughConductor {
+    /// A mirror tinted by the specular reflectance: Whitted's recursion follows delta
+    /// directions only.
+    fn whitted(&self) -> Phong {
+        Phong::mirror(self.specular_reflectance)
+    }
+
     /// `F D G / (4 cos θo)`: the `cos θi` of the convention cancels the denominator's.
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {

@@ -3,7 +3,7 @@
 
 use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
 use super::microfacet::Microfacet;
-use super::{mulsign, Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, BsdfMaterial, Roughness, TextureSource};
 use crate::error::Result;
@@ -112,6 +112,11 @@ impl RoughDielectric {
 }
 
 impl Bsdf for RoughDielectric {
+    /// Smooth glass of the same index: Whitted's recursion follows delta directions only.
+    fn whitted(&self) -> Phong {
+        Phong::glass(self.eta)
+    }
+
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z == 0.0 {

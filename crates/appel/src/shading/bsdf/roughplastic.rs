@@ -7,7 +7,7 @@
 use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
 use super::microfacet::{Microfacet, MicrofacetKind};
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 use std::sync::Mutex;
@@ -250,6 +250,11 @@ impl RoughPlastic {
 }
 
 impl Bsdf for RoughPlastic {
+    /// The diffuse base with the rough coating as a broad highlight.
+    fn whitted(&self) -> Phong {
+        Phong::coated(self.diffuse_reflectance, 30.0)
+    }
+
     /// The coating's microfacet reflection plus the diffuse base seen through it.
     #[inline]
     fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {

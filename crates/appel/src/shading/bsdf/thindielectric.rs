@@ -2,7 +2,7 @@
 //! passing straight through undeviated, Mitsuba's `thindielectric`.
 
 use super::fresnel::{fresnel_dielectric, reflect};
-use super::{Bsdf, BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, BsdfMaterial, TextureSource};
 use crate::error::Result;
@@ -36,6 +36,11 @@ impl ThinDielectric {
 }
 
 impl Bsdf for ThinDielectric {
+    /// Fresnel-weighted reflection and refraction (of the sheet's index).
+    fn whitted(&self) -> Phong {
+        Phong::glass(self.eta)
+    }
+
     /// Reflection with probability `2R / (1 + R)`, else straight through (`-wo`, eta 1: the two
     /// refractions cancel, and so does the radiance scaling).
     #[inline]

@@ -14,6 +14,7 @@ mod chi2_sphere;
 
 pub use light_picker::LightPicker;
 pub use shape_sampler::{ShapeSampler, TriangleSet};
+pub use sunsky::{SunPlacement, SunSkyParams, SunTime, SUN_APERTURE};
 
 use glam::{Vec2, Vec3};
 
@@ -91,6 +92,12 @@ pub trait EmitterPlugin: Clone + std::fmt::Debug {
         Vec3::ZERO
     }
 
+    /// Where a light at a point sits (points, spots, projectors): a shadow ray toward it ends
+    /// there. The default, `None`, is that of lights with no single position.
+    fn position(&self) -> Option<Vec3> {
+        None
+    }
+
     /// Emitted power (flux) per channel, by which the light picker chooses among emitters.
     /// Infinite lights count what crosses the scene's bounding sphere (see
     /// [`Self::set_scene_bounds`]).
@@ -165,6 +172,13 @@ macro_rules! define_emitters {
                     $(Emitter::$Variant(l) => EmitterPlugin::power(l),)*
                 };
                 (rgb.x + rgb.y + rgb.z) / 3.0
+            }
+
+            /// See [`EmitterPlugin::position`].
+            pub fn position(&self) -> Option<Vec3> {
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::position(l),)*
+                }
             }
 
             pub fn is_delta(&self) -> bool {

@@ -40,6 +40,10 @@ impl super::EmitterPlugin for PointLight {
     const INFINITE: bool = false;
 
     #[inline]
+    fn position(&self) -> Option<Vec3> {
+        Some(self.position)
+    }
+
     fn sample_li(&self, p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
         PointLight::sample_li(self, p)
     }

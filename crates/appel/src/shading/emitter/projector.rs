@@ -96,6 +96,10 @@ impl super::EmitterPlugin for Projector {
     const INFINITE: bool = false;
 
     #[inline]
+    fn position(&self) -> Option<Vec3> {
+        Some(self.position)
+    }
+
     fn sample_li(&self, p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
         Projector::sample_li(self, p)
     }

@@ -130,6 +130,10 @@ impl super::EmitterPlugin for SpotLight {
     const INFINITE: bool = false;
 
     #[inline]
+    fn position(&self) -> Option<Vec3> {
+        Some(self.position)
+    }
+
     fn sample_li(&self, p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
         SpotLight::sample_li(self, p)
     }

@@ -8,10 +8,11 @@ use super::origin::origin_of;
 use super::Converter;
 use crate::description::origins::key_path;
 use crate::description::{
-    BlendDesc, BumpMapDesc, CoatedConductorDesc, CoatedDiffuseDesc, ConductorDesc, DielectricDesc,
-    DiffuseDesc, DistributionDesc, IorDesc, MaskDesc, MaterialDesc, NormalMapDesc, PlasticDesc,
-    PrincipledDesc, PrincipledThinDesc, RoughConductorDesc, RoughDielectricDesc, RoughPlasticDesc,
-    TextureDesc, TextureFilter, TextureNode, TextureWrap, ThinDielectricDesc, TwoSidedDesc,
+    BlendDesc, BsdfParams, BumpMapDesc, CoatedConductorDesc, CoatedDiffuseDesc, ConductorDesc,
+    DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc, MaskDesc, MaterialDesc, NormalMapDesc,
+    PhongDesc, PlasticDesc, PrincipledDesc, PrincipledThinDesc, RoughConductorDesc,
+    RoughDielectricDesc, RoughPlasticDesc, TextureDesc, TextureFilter, TextureNode, TextureWrap,
+    ThinDielectricDesc, TwoSidedDesc,
 };
 use crate::error::Result;
 use std::rc::Rc;
@@ -298,8 +299,10 @@ impl Converter<'_> {
                 })
             }
             p => {
+                // `phong` is Whitted's model, appel's own: Mitsuba's XML has no such plugin.
                 let supported: Vec<&str> = MaterialDesc::BSDF_NAMES
                     .iter()
+                    .filter(|n| **n != <PhongDesc as BsdfParams>::NAME)
                     .chain(MaterialDesc::WRAPPER_NAMES)
                     .copied()
                     .collect();

@@ -113,6 +113,96 @@ impl Converter<'_> {
                     ..TransformDesc::default()
                 }),
             },
+            "sunsky" => {
+                let sun_direction = e.vector("sun_direction")?;
+                let float = |name: &str| e.float(name);
+                let (latitude, longitude, timezone) =
+                    (float("latitude")?, float("longitude")?, float("timezone")?);
+                let (hour, minute, second) = (float("hour")?, float("minute")?, float("second")?);
+                let (year, month, day) = (
+                    e.int("year")?,
+                    e.int_in("month", 1..=12)?,
+                    e.int_in("day", 1..=31)?,
+                );
+                if sun_direction.is_some() {
+                    let timed = [
+                        "latitude",
+                        "longitude",
+                        "timezone",
+                        "year",
+                        "month",
+                        "day",
+                        "hour",
+                        "minute",
+                        "second",
+                    ];
+                    if let Some(p) = timed.iter().find_map(|n| e.prop(n)) {
+                        return Err(p.error(format!(
+                            "\"{}\" cannot be given with \"sun_direction\" (the sun is placed by \
+                             one or the other)",
+                            p.name
+                        )));
+                    }
+                    if sun_direction.is_some_and(|d| d == [0.0; 3]) {
+                        let p = e.prop("sun_direction").expect("read above");
+                        return Err(p.error("the sun's direction is zero"));
+                    }
+                }
+                let ranged = |name: &str, default: f64, ok: &dyn Fn(f64) -> bool, what: &str| {
+                    let v = e.float_or(name, default)?;
+                    if !ok(v) {
+                        let p = e.prop(name).expect("a default is in range");
+                        return Err(p.error(format!("\"{name}\" must {what}, got {v}")));
+                    }
+                    Ok(v as f32)
+                };
+                let turbidity = ranged(
+                    "turbidity",
+                    3.0,
+                    &|t| (1.0..=10.0).contains(&t),
+                    "lie in [1, 10]",
+                )?;
+                let sun_scale = ranged("sun_scale", 1.0, &|s| s >= 0.0, "not be negative")?;
+                let sky_scale = ranged("sky_scale", 1.0, &|s| s >= 0.0, "not be negative")?;
+                let sun_aperture = ranged(
+                    "sun_aperture",
+                    0.5358,
+                    &|a| a > 0.0 && a < 180.0,
+                    "lie in (0, 180) degrees",
+                )?;
+                let albedo =
+                    constant_color(self, e, "albedo", SpectrumUse::Emission)?.unwrap_or([0.3; 3]);
+                if albedo.iter().any(|a| !(0.0..=1.0).contains(a)) {
+                    let message =
+                        format!("\"albedo\" must lie in [0, 1] in every channel, got {albedo:?}");
+                    return Err(match e.prop("albedo") {
+                        Some(p) => p.error(message),
+                        None => e.error(message),
+                    });
+                }
+                LightDesc::Sunsky {
+                    sun_direction: sun_direction.map(|d| f32s(DVec3::from(d))),
+                    latitude,
+                    longitude,
+                    timezone,
+                    year,
+                    month,
+                    day,
+                    hour,
+                    minute,
+                    second,
+                    turbidity,
+                    albedo,
+                    sun_scale,
+                    sky_scale,
+                    sun_aperture,
+                    complex_sun: e.bool_or("complex_sun", false)?,
+                    transform: to_world.map(|m| TransformDesc {
+                        matrix: Some(rows_f32(&m)),
+                        ..TransformDesc::default()
+                    }),
+                }
+            }
             "area" => return Err(e.error("an area emitter belongs inside a <shape>")),
             p => {
                 return Err(e.error(format!(
