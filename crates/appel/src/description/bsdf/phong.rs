@@ -91,3 +91,35 @@ fn default_ior() -> f32 {
 fn default_checker_size() -> f32 {
     1.0
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::description::parse::Syntax;
+    use crate::description::{description_from_str, MaterialDesc, PhongDesc};
+    use std::path::Path;
+
+    /// `phong`, its older name `whitted`, and a table without `type` all read as Whitted's model.
+    #[test]
+    fn phong_is_read_by_name_alias_and_default() {
+        let text = r#"
+[materials.named]
+type = "phong"
+reflection = 0.5
+
+[materials.older]
+type = "whitted"
+reflection = 0.5
+
+[materials.untyped]
+reflection = 0.5
+"#;
+        let d = description_from_str(text, Syntax::Toml, Path::new("t.toml")).unwrap();
+        let expected = MaterialDesc::Phong(PhongDesc {
+            reflection: 0.5,
+            ..PhongDesc::default()
+        });
+        for name in ["named", "older", "untyped"] {
+            assert_eq!(d.materials[name], expected, "{name}");
+        }
+    }
+}
