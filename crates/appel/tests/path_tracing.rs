@@ -107,6 +107,18 @@ fn rough_and_coated_surfaces_create_no_energy() {
             "rough plastic",
             "type = \"roughplastic\"\ndiffuse_reflectance = 1.0\nalpha = 0.3",
         ),
+        (
+            "coated diffuse",
+            "type = \"coateddiffuse\"\nreflectance = 1.0\nalpha = 0.2",
+        ),
+        (
+            "scattering coat",
+            "type = \"coateddiffuse\"\nreflectance = 1.0\nthickness = 0.2\nalbedo = 0.9\ng = 0.5",
+        ),
+        (
+            "coated conductor",
+            "type = \"coatedconductor\"\nconductor_material = \"none\"\ninterface_alpha = 0.1\nconductor_alpha = 0.3",
+        ),
     ] {
         let f = furnace(m, 64);
         let (mean, err) = mean_and_error(&f);

@@ -7,6 +7,8 @@
 
 pub mod animation;
 pub mod archive_path;
+pub mod bsdf;
+pub(crate) mod bsdf_registry;
 mod emitter_registry;
 mod from_text;
 pub mod integrator;
@@ -22,6 +24,7 @@ pub mod spectra;
 pub mod texture_lookup;
 pub mod validate;
 
+pub(crate) use bsdf_registry::for_each_bsdf;
 pub(crate) use emitter_registry::for_each_emitter;
 pub use emitter_registry::{is_light, light_names, EMITTER_NAMES};
 pub use from_text::{description_from_str, located, path_string};
@@ -30,6 +33,15 @@ pub(crate) use integrator_registry::for_each_integrator;
 pub use integrator_registry::{IntegratorName, IntegratorParams, IntegratorTable, NoParams};
 pub use light::{AreaEmitterDesc, LightDesc};
 pub use material::*;
+
+macro_rules! export_bsdf_descs {
+    ($($(#[$attr:meta])* $Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
+        pub use bsdf::{$($Desc,)*};
+    };
+}
+bsdf_registry::for_each_bsdf!(export_bsdf_descs);
+pub use bsdf::phong::CheckerDesc;
+pub use bsdf::{BsdfParams, DistributionDesc, LayerDesc, ParamError, DEFAULT_ALPHA};
 pub use render::*;
 pub use shape::*;
 

@@ -382,67 +382,8 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
     for (k, ior) in m.iors() {
         index_of_refraction(c, k, ior)?;
     }
-    match m {
-        MaterialDesc::Conductor(x) => conductor(c, x.material.as_deref(), x.eta, x.k)?,
-        MaterialDesc::RoughConductor(x) => conductor(c, x.material.as_deref(), x.eta, x.k)?,
-        MaterialDesc::RoughPlastic(x) => {
-            // Its coating's albedo is precomputed for one roughness, as in Mitsuba.
-            for (k, a) in [("alpha", &x.alpha), ("alpha_u", &x.alpha_u)] {
-                if matches!(a, Some(TextureDesc::Rgb(_) | TextureDesc::Texture(_))) {
-                    return c.fail(k, format!("a rough plastic's `{k}` must be a number"));
-                }
-            }
-        }
-        _ => {}
-    }
-    if let MaterialDesc::Principled(p) = m {
-        if p.eta.is_some() && p.specular.is_some() {
-            return c.fail("eta", "give `eta` or `specular`, not both");
-        }
-        if let Some(eta) = p.eta {
-            c.positive("eta", eta)?;
-        }
-        if let Some(s) = p.specular {
-            // eta = 2 / (1 - sqrt(0.08 s)) - 1 is finite and at least 1 for s in [0, 12.5).
-            if !(0.0..12.5).contains(&s) {
-                return c.fail(
-                    "specular",
-                    format!("`specular` must lie in [0, 12.5), got {s}"),
-                );
-            }
-        }
-        for (k, v) in [
-            (
-                "diffuse_reflectance_sampling_rate",
-                p.diffuse_reflectance_sampling_rate,
-            ),
-            ("main_specular_sampling_rate", p.main_specular_sampling_rate),
-            ("clearcoat_sampling_rate", p.clearcoat_sampling_rate),
-        ] {
-            c.non_negative(k, &[v])?;
-        }
-    }
-    if let MaterialDesc::PrincipledThin(p) = m {
-        for (k, v) in [
-            (
-                "specular_reflectance_sampling_rate",
-                p.specular_reflectance_sampling_rate,
-            ),
-            (
-                "specular_transmittance_sampling_rate",
-                p.specular_transmittance_sampling_rate,
-            ),
-            (
-                "diffuse_reflectance_sampling_rate",
-                p.diffuse_reflectance_sampling_rate,
-            ),
-            (
-                "diffuse_transmittance_sampling_rate",
-                p.diffuse_transmittance_sampling_rate,
-            ),
-        ] {
-            c.non_negative(k, &[v])?;
-        }
+    if let Err(e) = m.check_bsdf() {
+        return c.fail(e.key, e.message);
     }
     for (k, r) in match m {
         MaterialDesc::TwoSided(t) => vec![("front", Some(&t.front)), ("back", t.back.as_ref())],
@@ -520,30 +461,6 @@ fn index_of_refraction(c: &Checker, k: &str, ior: &IorDesc) -> Check {
             ),
         ),
     }
-}
-
-/// A metal's index: `eta` and `k` given, or taken from a metal Appel knows.
-fn conductor(c: &Checker, material: Option<&str>, eta: Option<Vec3f>, k: Option<Vec3f>) -> Check {
-    if let Some(eta) = eta {
-        c.finite("eta", &eta)?;
-    }
-    if let Some(k) = k {
-        c.non_negative("k", &k)?;
-    }
-    if eta.is_some() && k.is_some() {
-        return Ok(());
-    }
-    let name = material.unwrap_or(spectra::NO_CONDUCTOR);
-    if spectra::conductor(name).is_none() {
-        return c.fail(
-            "material",
-            format!(
-                "unknown conductor `{name}`, expected one of: {}",
-                spectra::CONDUCTOR_NAMES.join(", ")
-            ),
-        );
-    }
-    Ok(())
 }
 
 /// The texture at key `k`: a number or colour not negative, or a texture node that makes sense.

@@ -10,6 +10,7 @@ use crate::geometry::InstanceTransform;
 use crate::io::load_mesh;
 use crate::io::vertex_normals::angle_weighted;
 use crate::scene::{Geometry, Instance, Prototype, ShapeKind};
+use crate::shading::bsdf::PhongParams;
 use crate::shading::material::Material;
 use crate::shading::texture::Texture;
 use std::path::Path;
@@ -231,5 +232,5 @@ pub fn material_from_file(m: &FileMaterial) -> Material {
         },
         ..Default::default()
     };
-    Material::Phong(super::shading_materials::phong(&d))
+    Material::Phong(PhongParams::from_desc(&d))
 }

@@ -80,3 +80,9 @@ impl<'a> TextureCache<'a> {
 fn uv_matrix(m: &Option<[[f32; 3]; 3]>) -> Mat3 {
     m.map_or(Mat3::IDENTITY, |m| Mat3::from_cols_array_2d(&m).transpose())
 }
+
+impl crate::shading::bsdf::TextureSource for TextureCache<'_> {
+    fn texture(&mut self, d: &TextureDesc) -> Result<Texture> {
+        TextureCache::texture(self, d)
+    }
+}

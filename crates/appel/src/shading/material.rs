@@ -1,157 +1,93 @@
 //! Materials of the Monte Carlo integrators: a BSDF's textured parameters, resolved at a surface
-//! point into a [`Bsdf`] of plain values (pbrt-v4's Material -> BSDF split). What depends only on
+//! point into a BSDF of plain values ([`AnyBsdf`]) (pbrt-v4's Material -> BSDF split). What depends only on
 //! constants (the plastics' precomputed albedos) is computed once, at scene load.
 
-use super::bsdf::{
-    Bsdf, BsdfFlags, BsdfSample, Conductor, Dielectric, Diffuse, Microfacet, MicrofacetKind, Phong,
-    PhongParams, Plastic, PlasticParams, Principled, PrincipledThin, RoughConductor,
-    RoughDielectric, RoughPlastic, RoughPlasticParams, ThinDielectric,
-};
+use super::bsdf::{AnyBsdf, BsdfFlags, BsdfMaterial, BsdfSample, Diffuse, Phong, TextureSource};
+pub use super::bsdf::{PrincipledTextures, PrincipledThinTextures, Roughness};
 use super::frame::ShadingFrame;
 use super::perturb::{normal_from_bump, normal_from_map, Perturbation};
 use super::texture::{AttributePoint, TexPoint, Texture};
+use crate::description::{for_each_bsdf, MaterialDesc};
+use crate::error::Result;
 use crate::math::{Vec2, Vec3};
 
-#[derive(Clone, Debug)]
-pub enum Material {
-    /// Whitted's model (`phong`), its colour a plain colour or Whitted's checkerboard.
-    Phong(PhongParams),
-    Diffuse {
-        reflectance: Texture,
-    },
-    Conductor {
-        eta: Vec3,
-        k: Vec3,
-        specular: Texture,
-    },
-    RoughConductor {
-        roughness: Roughness,
-        eta: Vec3,
-        k: Vec3,
-        specular: Texture,
-    },
-    Dielectric {
-        eta: f32,
-        reflectance: Texture,
-        transmittance: Texture,
-    },
-    ThinDielectric {
-        eta: f32,
-        reflectance: Texture,
-        transmittance: Texture,
-    },
-    RoughDielectric {
-        roughness: Roughness,
-        eta: f32,
-        reflectance: Texture,
-        transmittance: Texture,
-    },
-    Plastic {
-        params: PlasticParams,
-        diffuse: Texture,
-        specular: Texture,
-    },
-    RoughPlastic {
-        params: RoughPlasticParams,
-        diffuse: Texture,
-        specular: Texture,
-    },
-    /// Mitsuba's `principled` (Burley's Disney BSDF); `eta` is resolved from `specular` at load.
-    Principled(Box<PrincipledTextures>),
-    /// Mitsuba's `principledthin`.
-    PrincipledThin(Box<PrincipledThinTextures>),
-    /// One-sided materials seen from both sides: `front` from the front, `back` from behind (both
-    /// indices into the scene's materials).
-    TwoSided {
-        front: u32,
-        back: u32,
-    },
-    /// The surface is present with probability `opacity` (Mitsuba's `mask`), as `inner`.
-    Mask {
-        opacity: Texture,
-        inner: u32,
-    },
-    /// `inner` around the normal a tangent-space normal map gives (Mitsuba's `normalmap`).
-    NormalMap {
-        normals: Texture,
-        inner: u32,
-        flip_invalid: bool,
-        shadowing: bool,
-    },
-    /// `first` and `second` mixed as `(1 - weight) first + weight second` (Mitsuba's
-    /// `blendbsdf`); both are plain BSDFs, not wrappers.
-    Blend {
-        weight: Texture,
-        first: u32,
-        second: u32,
-    },
-    /// `inner` around the normal of a height field scaled by `scale` (Mitsuba's `bumpmap`).
-    BumpMap {
-        height: Texture,
-        scale: f32,
-        inner: u32,
-        flip_invalid: bool,
-        shadowing: bool,
-    },
-}
+macro_rules! define_material {
+    ($($(#[$attr:meta])* $Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
+        use super::bsdf::{$($Material,)*};
 
-/// The textured parameters of [`Material::Principled`] (boxed: they are many, and the other
-/// materials should not pay for their size).
-#[derive(Clone, Debug)]
-pub struct PrincipledTextures {
-    pub base_color: Texture,
-    pub roughness: Texture,
-    pub anisotropic: Texture,
-    pub metallic: Texture,
-    pub spec_trans: Texture,
-    pub spec_tint: Texture,
-    pub sheen: Texture,
-    pub sheen_tint: Texture,
-    pub flatness: Texture,
-    pub clearcoat: Texture,
-    pub clearcoat_gloss: Texture,
-    pub eta: f32,
-    /// Diffuse, main specular and clearcoat sampling rates.
-    pub rates: [f32; 3],
-}
+        /// A material of the Monte Carlo integrators: one of the BSDFs with its textures, or a
+        /// wrapper around others (see [`crate::description::MaterialDesc`] for why the
+        /// wrappers are not BSDFs of the registry).
+        #[derive(Clone, Debug)]
+        pub enum Material {
+            $($Variant($Material),)*
+            /// One-sided materials seen from both sides: `front` from the front, `back` from
+            /// behind (both indices into the scene's materials).
+            TwoSided {
+                front: u32,
+                back: u32,
+            },
+            /// The surface is present with probability `opacity` (Mitsuba's `mask`), as `inner`.
+            Mask {
+                opacity: Texture,
+                inner: u32,
+            },
+            /// `inner` around the normal a tangent-space normal map gives (Mitsuba's
+            /// `normalmap`).
+            NormalMap {
+                normals: Texture,
+                inner: u32,
+                flip_invalid: bool,
+                shadowing: bool,
+            },
+            /// `first` and `second` mixed as `(1 - weight) first + weight second` (Mitsuba's
+            /// `blendbsdf`); both are plain BSDFs, not wrappers.
+            Blend {
+                weight: Texture,
+                first: u32,
+                second: u32,
+            },
+            /// `inner` around the normal of a height field scaled by `scale` (Mitsuba's
+            /// `bumpmap`).
+            BumpMap {
+                height: Texture,
+                scale: f32,
+                inner: u32,
+                flip_invalid: bool,
+                shadowing: bool,
+            },
+        }
 
-/// The textured parameters of [`Material::PrincipledThin`].
-#[derive(Clone, Debug)]
-pub struct PrincipledThinTextures {
-    pub base_color: Texture,
-    pub roughness: Texture,
-    pub anisotropic: Texture,
-    pub spec_trans: Texture,
-    pub spec_tint: Texture,
-    pub sheen: Texture,
-    pub sheen_tint: Texture,
-    pub flatness: Texture,
-    pub diff_trans: Texture,
-    pub eta: Texture,
-    /// Specular reflection and transmission, diffuse reflection and transmission sampling rates.
-    pub rates: [f32; 4],
-}
+        impl Material {
+            /// The material of a described BSDF, its textures from `textures`; `None` for the
+            /// wrappers, which the scene resolves itself.
+            pub fn from_bsdf_desc(
+                d: &MaterialDesc,
+                textures: &mut dyn TextureSource,
+            ) -> Option<Result<Material>> {
+                Some(match d {
+                    $(MaterialDesc::$Variant(x) => {
+                        <$Material as BsdfMaterial>::build(x, textures).map(Material::$Variant)
+                    })*
+                    _ => return None,
+                })
+            }
 
-/// A microfacet distribution whose roughness may vary over the surface.
-#[derive(Clone, Debug)]
-pub struct Roughness {
-    pub kind: MicrofacetKind,
-    pub alpha_u: Texture,
-    pub alpha_v: Texture,
-    pub sample_visible: bool,
+            fn leaf_bsdf(&self, tp: &TexPoint) -> AnyBsdf {
+                match self {
+                    $(Material::$Variant(m) => AnyBsdf::$Variant(m.at(tp)),)*
+                    // Resolved by `bsdf`; reached only past the nesting bound, as black.
+                    Material::TwoSided { .. }
+                    | Material::Mask { .. }
+                    | Material::NormalMap { .. }
+                    | Material::BumpMap { .. }
+                    | Material::Blend { .. } => AnyBsdf::Diffuse(Diffuse::new(Vec3::ZERO)),
+                }
+            }
+        }
+    };
 }
-
-impl Roughness {
-    #[inline]
-    fn at(&self, p: &TexPoint) -> Microfacet {
-        Microfacet::new(
-            self.kind,
-            self.alpha_u.eval_1_at(p),
-            self.alpha_v.eval_1_at(p),
-            self.sample_visible,
-        )
-    }
-}
+for_each_bsdf!(define_material);
 
 /// What a material needs to know of the surface point, in the coordinates of its shading frame
 /// (`z` = shading normal, `x` along dp/du).
@@ -197,9 +133,9 @@ impl<'a> SurfacePoint<'a> {
 /// and out are in the surface's shading frame.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceBsdf {
-    pub bsdf: Bsdf,
+    pub bsdf: AnyBsdf,
     /// A blend: the second BSDF and its weight (`bsdf` is the first).
-    blend: Option<(Bsdf, f32)>,
+    blend: Option<(AnyBsdf, f32)>,
     flip_outer: bool,
     perturbation: Option<Perturbation>,
     flip_inner: bool,
@@ -218,7 +154,7 @@ fn flip_if(flip: bool, mut w: Vec3) -> Vec3 {
 
 impl SurfaceBsdf {
     /// A BSDF with no wrapper.
-    pub fn plain(bsdf: Bsdf) -> Self {
+    pub fn plain(bsdf: AnyBsdf) -> Self {
         SurfaceBsdf {
             bsdf,
             blend: None,
@@ -267,7 +203,7 @@ impl SurfaceBsdf {
         Some(s)
     }
 
-    /// [`Bsdf::eval_pdf`] through the wrappers. A perturbed frame gives nothing where `wi` lies on
+    /// [`AnyBsdf::eval_pdf`] through the wrappers. A perturbed frame gives nothing where `wi` lies on
     /// different sides of the two frames' surfaces, and its value (not its pdf) carries the
     /// terminator shadowing.
     pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
@@ -284,7 +220,7 @@ impl SurfaceBsdf {
         (f * p.attenuation(wi), pdf)
     }
 
-    /// [`Bsdf::sample`] through the wrappers; `None` also where a perturbed frame rejects the
+    /// [`AnyBsdf::sample`] through the wrappers; `None` also where a perturbed frame rejects the
     /// direction.
     pub fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
         let wo = flip_if(self.flip_outer, wo);
@@ -319,7 +255,7 @@ impl Material {
             attributes: at.attributes,
         };
         let mut m = &materials[index as usize];
-        let mut out = SurfaceBsdf::plain(Bsdf::Diffuse(Diffuse::new(Vec3::ZERO)));
+        let mut out = SurfaceBsdf::plain(AnyBsdf::Diffuse(Diffuse::new(Vec3::ZERO)));
         // `wo` as the wrapper being resolved sees it.
         let mut wo = at.wo;
         for _ in 0..MAX_NESTING {
@@ -417,7 +353,7 @@ impl Material {
     }
 
     /// What the `whitted` and `raycast` integrators read of material `index` at `uv`: a `phong`
-    /// material's own lobes, any other BSDF's [`Bsdf::whitted`] response. `attributes` (asked
+    /// material's own lobes, any other BSDF's [`super::bsdf::Bsdf::whitted`] response. `attributes` (asked
     /// only for the latter) are the mesh attributes of the point.
     #[inline(always)]
     pub fn whitted<'a>(
@@ -427,7 +363,7 @@ impl Material {
         attributes: impl FnOnce() -> Option<AttributePoint<'a>>,
     ) -> Phong {
         match &materials[index as usize] {
-            Material::Phong(p) => p.at(uv),
+            Material::Phong(p) => p.at_uv(uv),
             _ => Self::whitted_of_bsdf(
                 materials,
                 index,
@@ -457,115 +393,6 @@ impl Material {
             };
         }
         m.leaf_bsdf(tp).whitted()
-    }
-
-    fn leaf_bsdf(&self, tp: &TexPoint) -> Bsdf {
-        match self {
-            Material::Phong(p) => Bsdf::Phong(p.at(tp.uv)),
-            Material::Diffuse { reflectance } => Bsdf::Diffuse(Diffuse::new(
-                reflectance.eval_at(tp).clamp(Vec3::ZERO, Vec3::ONE),
-            )),
-            Material::Conductor { eta, k, specular } => {
-                Bsdf::Conductor(Conductor::new(*eta, *k, specular.eval_at(tp)))
-            }
-            Material::RoughConductor {
-                roughness,
-                eta,
-                k,
-                specular,
-            } => Bsdf::RoughConductor(RoughConductor::new(
-                roughness.at(tp),
-                *eta,
-                *k,
-                specular.eval_at(tp),
-            )),
-            Material::Dielectric {
-                eta,
-                reflectance,
-                transmittance,
-            } => Bsdf::Dielectric(Dielectric::new(
-                *eta,
-                reflectance.eval_at(tp),
-                transmittance.eval_at(tp),
-            )),
-            Material::ThinDielectric {
-                eta,
-                reflectance,
-                transmittance,
-            } => Bsdf::ThinDielectric(ThinDielectric::new(
-                *eta,
-                reflectance.eval_at(tp),
-                transmittance.eval_at(tp),
-            )),
-            Material::RoughDielectric {
-                roughness,
-                eta,
-                reflectance,
-                transmittance,
-            } => Bsdf::RoughDielectric(RoughDielectric::new(
-                roughness.at(tp),
-                *eta,
-                reflectance.eval_at(tp),
-                transmittance.eval_at(tp),
-            )),
-            Material::Plastic {
-                params,
-                diffuse,
-                specular,
-            } => Bsdf::Plastic(Plastic::new(
-                params,
-                diffuse.eval_at(tp),
-                specular.eval_at(tp),
-            )),
-            Material::RoughPlastic {
-                params,
-                diffuse,
-                specular,
-            } => Bsdf::RoughPlastic(RoughPlastic::new(
-                params,
-                diffuse.eval_at(tp),
-                specular.eval_at(tp),
-            )),
-            Material::Principled(p) => Bsdf::Principled(Principled {
-                base_color: p.base_color.eval_at(tp),
-                roughness: p.roughness.eval_1_at(tp),
-                anisotropic: p.anisotropic.eval_1_at(tp),
-                metallic: p.metallic.eval_1_at(tp),
-                spec_trans: p.spec_trans.eval_1_at(tp),
-                spec_tint: p.spec_tint.eval_1_at(tp),
-                sheen: p.sheen.eval_1_at(tp),
-                sheen_tint: p.sheen_tint.eval_1_at(tp),
-                flatness: p.flatness.eval_1_at(tp),
-                clearcoat: p.clearcoat.eval_1_at(tp),
-                clearcoat_gloss: p.clearcoat_gloss.eval_1_at(tp),
-                eta: p.eta,
-                diffuse_rate: p.rates[0],
-                specular_rate: p.rates[1],
-                clearcoat_rate: p.rates[2],
-            }),
-            Material::PrincipledThin(p) => Bsdf::PrincipledThin(PrincipledThin {
-                base_color: p.base_color.eval_at(tp),
-                roughness: p.roughness.eval_1_at(tp),
-                anisotropic: p.anisotropic.eval_1_at(tp),
-                spec_trans: p.spec_trans.eval_1_at(tp),
-                spec_tint: p.spec_tint.eval_1_at(tp),
-                sheen: p.sheen.eval_1_at(tp),
-                sheen_tint: p.sheen_tint.eval_1_at(tp),
-                flatness: p.flatness.eval_1_at(tp),
-                diff_trans: p.diff_trans.eval_1_at(tp),
-                eta: p.eta.eval_1_at(tp),
-                spec_reflect_rate: p.rates[0],
-                spec_trans_rate: p.rates[1],
-                diffuse_reflect_rate: p.rates[2],
-                diffuse_trans_rate: p.rates[3],
-            }),
-            // Resolved by `bsdf`; reached only past the nesting bound, as black.
-            Material::TwoSided { .. }
-            | Material::Mask { .. }
-            | Material::NormalMap { .. }
-            | Material::BumpMap { .. }
-            | Material::Blend { .. } => Bsdf::Diffuse(Diffuse::new(Vec3::ZERO)),
-        }
     }
 }
 

@@ -4,7 +4,7 @@
 //! normal and its flipped twin look at one direction only, as in Mitsuba.)
 
 use super::*;
-use crate::shading::bsdf::MicrofacetKind;
+use crate::shading::bsdf::{DiffuseMaterial, MicrofacetKind, RoughConductorMaterial};
 use crate::shading::chi2::{Chi2Test, Config, Pcg32};
 use crate::shading::spectra;
 
@@ -13,14 +13,14 @@ fn dir(x: f32, y: f32, z: f32) -> Vec3 {
 }
 
 fn diffuse(c: f32) -> Material {
-    Material::Diffuse {
+    Material::Diffuse(DiffuseMaterial {
         reflectance: Texture::Constant(Vec3::splat(c)),
-    }
+    })
 }
 
 fn rough_conductor() -> Material {
     let (eta, k) = spectra::conductor("Al").unwrap();
-    Material::RoughConductor {
+    Material::RoughConductor(RoughConductorMaterial {
         roughness: Roughness {
             kind: MicrofacetKind::Ggx,
             alpha_u: Texture::Constant(Vec3::splat(0.25)),
@@ -30,11 +30,11 @@ fn rough_conductor() -> Material {
         eta,
         k,
         specular: Texture::Constant(Vec3::ONE),
-    }
+    })
 }
 
 fn white_conductor() -> Material {
-    Material::RoughConductor {
+    Material::RoughConductor(RoughConductorMaterial {
         roughness: Roughness {
             kind: MicrofacetKind::Beckmann,
             alpha_u: Texture::Constant(Vec3::splat(0.3)),
@@ -44,7 +44,7 @@ fn white_conductor() -> Material {
         eta: Vec3::ZERO,
         k: Vec3::ONE,
         specular: Texture::Constant(Vec3::ONE),
-    }
+    })
 }
 
 /// A normal map of one colour around `inner` (material 1), as material 0.

@@ -1,6 +1,7 @@
 //! pbrt-v4's materials onto Appel's BSDFs (Mitsuba's models). pbrt's BSDFs scatter on both sides
 //! of a surface, Mitsuba's opaque ones on the front only: every opaque material is wrapped in
-//! `twosided`. docs/pbrt.md says how each maps and where it is an approximation.
+//! `twosided`. docs/pbrt.md says how each maps and where it is an approximation; the coated
+//! materials are pbrt-v4's own stochastic layered BSDFs.
 
 use super::convert::Converter;
 use super::params::{ParamSet, ParamType};
@@ -8,9 +9,9 @@ use super::parser::Directive;
 use super::spectrum::{rgb_of, Use};
 use super::tokenizer::Loc;
 use crate::description::{
-    BlendDesc, ConductorDesc, DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc, MaterialDesc,
-    PlasticDesc, RoughConductorDesc, RoughDielectricDesc, RoughPlasticDesc, TextureDesc,
-    TwoSidedDesc,
+    BlendDesc, CoatedConductorDesc, CoatedDiffuseDesc, ConductorDesc, DielectricDesc, DiffuseDesc,
+    DistributionDesc, IorDesc, MaterialDesc, RoughConductorDesc, RoughDielectricDesc, TextureDesc,
+    ThinDielectricDesc, TwoSidedDesc,
 };
 use crate::error::Result;
 
@@ -76,7 +77,7 @@ impl Converter {
                 let eta = self.eta(p, "eta")?;
                 let (au, av) = self.roughness(p, "")?;
                 let d = if kind == "thindielectric" {
-                    MaterialDesc::ThinDielectric(dielectric(eta))
+                    MaterialDesc::ThinDielectric(thin_dielectric(eta))
                 } else if au.max(av) < SMOOTH_ALPHA {
                     MaterialDesc::Dielectric(dielectric(eta))
                 } else {
@@ -96,26 +97,7 @@ impl Converter {
                 (d, true)
             }
             "coateddiffuse" => (self.coated_diffuse(p)?, false),
-            "coatedconductor" => {
-                // The metal seen through the coating: its index relative to the coating's.
-                let eta = self.eta(p, "interface.eta")?;
-                let (au, av) = self.roughness(p, "interface.")?;
-                if au.max(av) >= SMOOTH_ALPHA {
-                    let at = p
-                        .get("interface.roughness")
-                        .or_else(|| p.get("interface.uroughness"))
-                        .map_or(loc, |q| &q.loc);
-                    return Err(at.error(
-                        "a coatedconductor with a rough coating is not supported (Appel maps a \
-                         smooth coating onto the conductor; see docs/pbrt.md)",
-                    ));
-                }
-                for layered in ["thickness", "albedo", "g", "maxdepth", "nsamples"] {
-                    p.ignore(layered);
-                }
-                let metal = self.conductor(p, "conductor.")?;
-                (relative_to_coating(metal, eta as f32), false)
-            }
+            "coatedconductor" => (self.coated_conductor(p)?, false),
             other => {
                 return Err(loc.error(format!(
                     "unsupported material \"{other}\" (supported: diffuse, conductor, \
@@ -145,9 +127,36 @@ impl Converter {
         })
     }
 
-    /// pbrt's conductor (or a coated conductor's, with `prefix` "conductor."): `eta` and `k`, or
-    /// a `reflectance` (not supported), and its roughness.
+    /// pbrt's conductor: its index (see [`Self::conductor_index`]) and roughness.
     fn conductor(&mut self, p: &ParamSet, prefix: &str) -> Result<MaterialDesc> {
+        let ConductorIndex { eta, k } = self.conductor_index(p, prefix)?;
+        let (au, av) = self.roughness(p, prefix)?;
+        Ok(if au.max(av) < SMOOTH_ALPHA {
+            MaterialDesc::Conductor(ConductorDesc {
+                material: None,
+                eta: Some(eta),
+                k: Some(k),
+                specular_reflectance: TextureDesc::Value(1.0),
+            })
+        } else {
+            let (alpha, alpha_u, alpha_v) = alphas(au, av);
+            MaterialDesc::RoughConductor(RoughConductorDesc {
+                material: None,
+                eta: Some(eta),
+                k: Some(k),
+                specular_reflectance: TextureDesc::Value(1.0),
+                distribution: DistributionDesc::Ggx,
+                alpha,
+                alpha_u,
+                alpha_v,
+                sample_visible: true,
+            })
+        })
+    }
+
+    /// A conductor's (or a coated conductor's, with `prefix` "conductor.") `eta` and `k`, copper
+    /// by default; given by its `reflectance` it is not supported.
+    fn conductor_index(&self, p: &ParamSet, prefix: &str) -> Result<ConductorIndex> {
         if let Some(q) = p.get(&format!("{prefix}reflectance")) {
             return Err(q.error(
                 "a conductor given by its \"reflectance\" is not supported: give eta and k",
@@ -176,89 +185,66 @@ impl Converter {
                 Some(q) => rgb_of(q, Use::Unbounded, &this.base_dir),
             }
         };
-        let eta = spectrum(self, "eta", "eta")?;
-        let k = spectrum(self, "k", "k")?;
-        let (au, av) = self.roughness(p, prefix)?;
-        Ok(if au.max(av) < SMOOTH_ALPHA {
-            MaterialDesc::Conductor(ConductorDesc {
-                material: None,
-                eta: Some(eta),
-                k: Some(k),
-                specular_reflectance: TextureDesc::Value(1.0),
-            })
-        } else {
-            let (alpha, alpha_u, alpha_v) = alphas(au, av);
-            MaterialDesc::RoughConductor(RoughConductorDesc {
-                material: None,
-                eta: Some(eta),
-                k: Some(k),
-                specular_reflectance: TextureDesc::Value(1.0),
-                distribution: DistributionDesc::Ggx,
-                alpha,
-                alpha_u,
-                alpha_v,
-                sample_visible: true,
-            })
+        Ok(ConductorIndex {
+            eta: spectrum(self, "eta", "eta")?,
+            k: spectrum(self, "k", "k")?,
         })
     }
 
-    /// pbrt's coateddiffuse: a diffuse base under a dielectric coating, as Mitsuba's (rough)
-    /// plastic. The coating is taken as infinitely thin and clear (`thickness`, `albedo` and
-    /// `g` of pbrt's layer medium are not modelled); Mitsuba's `nonlinear` accounts for light
-    /// reflected back and forth under the coating, as pbrt's random walk does.
+    /// pbrt-v4's coateddiffuse, parameter for parameter: a diffuse base under a dielectric
+    /// coating, evaluated stochastically as pbrt-v4's `LayeredBxDF` does.
     fn coated_diffuse(&mut self, p: &ParamSet) -> Result<MaterialDesc> {
-        let reflectance = self.spectrum_tex(p, "reflectance", 0.5)?;
-        let eta = self.eta(p, "eta")?;
-        if let Some(q) = p.any_of(
-            "albedo",
-            &[
-                ParamType::Float,
-                ParamType::Rgb,
-                ParamType::Spectrum,
-                ParamType::Texture,
-            ],
-        )? {
-            let zero = matches!(q.ty, ParamType::Float | ParamType::Rgb)
-                && q.numbers().iter().all(|x| *x == 0.0);
-            if !zero {
-                return Err(q.error(
-                    "a coateddiffuse whose coating scatters (\"albedo\" > 0) is not supported",
-                ));
-            }
-        }
-        for layered in ["thickness", "g", "maxdepth", "nsamples"] {
-            p.ignore(layered);
-        }
         let (au, av) = self.roughness(p, "")?;
-        Ok(if au.max(av) < SMOOTH_ALPHA {
-            MaterialDesc::Plastic(PlasticDesc {
-                int_ior: IorDesc::Value(eta as f32),
-                ext_ior: IorDesc::Value(1.0),
-                diffuse_reflectance: reflectance,
-                specular_reflectance: TextureDesc::Value(1.0),
-                nonlinear: true,
-            })
-        } else {
-            let (alpha, alpha_u, _) = alphas(au, av);
-            if alpha_u.is_some() {
-                return Err(p.get("uroughness").expect("anisotropic").error(
-                    "an anisotropic coateddiffuse is not supported (Appel's rough plastic is \
-                     isotropic)",
-                ));
-            }
-            MaterialDesc::RoughPlastic(RoughPlasticDesc {
-                int_ior: IorDesc::Value(eta as f32),
-                ext_ior: IorDesc::Value(1.0),
-                diffuse_reflectance: reflectance,
-                specular_reflectance: TextureDesc::Value(1.0),
-                nonlinear: true,
-                distribution: DistributionDesc::Ggx,
-                alpha,
-                alpha_u: None,
-                alpha_v: None,
-                sample_visible: true,
-            })
-        })
+        let (alpha, alpha_u, alpha_v) = layered_alphas(au, av);
+        Ok(MaterialDesc::CoatedDiffuse(CoatedDiffuseDesc {
+            reflectance: self.spectrum_tex(p, "reflectance", 0.5)?,
+            alpha,
+            alpha_u,
+            alpha_v,
+            eta: self.eta(p, "eta")? as f32,
+            thickness: self.layer_float(p, "thickness", 0.01)?,
+            albedo: self.spectrum_tex(p, "albedo", 0.0)?,
+            g: self.layer_float(p, "g", 0.0)?,
+            maxdepth: layer_int(p, "maxdepth", 10)?,
+            nsamples: layer_int(p, "nsamples", 1)?,
+        }))
+    }
+
+    /// pbrt-v4's coatedconductor, parameter for parameter (`interface.X` and `conductor.X`).
+    fn coated_conductor(&mut self, p: &ParamSet) -> Result<MaterialDesc> {
+        let ConductorIndex { eta, k } = self.conductor_index(p, "conductor.")?;
+        let (iu, iv) = self.roughness(p, "interface.")?;
+        let (interface_alpha, interface_alpha_u, interface_alpha_v) = layered_alphas(iu, iv);
+        let (cu, cv) = self.roughness(p, "conductor.")?;
+        let (conductor_alpha, conductor_alpha_u, conductor_alpha_v) = layered_alphas(cu, cv);
+        Ok(MaterialDesc::CoatedConductor(CoatedConductorDesc {
+            interface_eta: self.eta(p, "interface.eta")? as f32,
+            interface_alpha,
+            interface_alpha_u,
+            interface_alpha_v,
+            conductor_material: "Cu".into(),
+            conductor_eta: Some(eta),
+            conductor_k: Some(k),
+            conductor_alpha,
+            conductor_alpha_u,
+            conductor_alpha_v,
+            thickness: self.layer_float(p, "thickness", 0.01)?,
+            albedo: self.spectrum_tex(p, "albedo", 0.0)?,
+            g: self.layer_float(p, "g", 0.0)?,
+            maxdepth: layer_int(p, "maxdepth", 10)?,
+            nsamples: layer_int(p, "nsamples", 1)?,
+        }))
+    }
+
+    /// A layer's float parameter (`thickness`, `g`): a constant.
+    fn layer_float(&self, p: &ParamSet, name: &str, default: f64) -> Result<f32> {
+        match p.any_of(name, &[ParamType::Float, ParamType::Texture])? {
+            None => Ok(default as f32),
+            Some(q) if q.ty == ParamType::Float => Ok(q.numbers()[0] as f32),
+            Some(q) => Err(q.error(format!(
+                "a textured \"{name}\" is not supported: give a constant"
+            ))),
+        }
     }
 
     /// `mix`: one of two named materials chosen per point with probability `amount` for the
@@ -388,6 +374,16 @@ fn dielectric(eta: f64) -> DielectricDesc {
     }
 }
 
+fn thin_dielectric(eta: f64) -> ThinDielectricDesc {
+    let d = dielectric(eta);
+    ThinDielectricDesc {
+        int_ior: d.int_ior,
+        ext_ior: d.ext_ior,
+        specular_reflectance: d.specular_reflectance,
+        specular_transmittance: d.specular_transmittance,
+    }
+}
+
 /// Isotropic `alpha`, or `alpha_u` and `alpha_v`.
 fn alphas(
     au: f64,
@@ -405,20 +401,31 @@ fn alphas(
     }
 }
 
-/// A conductor's index divided by the coating's: what the metal's Fresnel sees under it.
-fn relative_to_coating(m: MaterialDesc, eta: f32) -> MaterialDesc {
-    let rel = |v: Option<[f32; 3]>| v.map(|v| v.map(|x| x / eta));
-    match m {
-        MaterialDesc::Conductor(mut c) => {
-            c.eta = rel(c.eta);
-            c.k = rel(c.k);
-            MaterialDesc::Conductor(c)
-        }
-        MaterialDesc::RoughConductor(mut c) => {
-            c.eta = rel(c.eta);
-            c.k = rel(c.k);
-            MaterialDesc::RoughConductor(c)
-        }
-        other => other,
+/// A conductor's complex index of refraction, per RGB channel.
+struct ConductorIndex {
+    eta: [f32; 3],
+    k: [f32; 3],
+}
+
+/// A layered BSDF's roughness: one `alpha` where isotropic, else `alpha_u` and `alpha_v`
+/// (pbrt-v4's coatings below [`SMOOTH_ALPHA`] are smooth, as the BSDF itself decides).
+fn layered_alphas(au: f64, av: f64) -> (TextureDesc, Option<TextureDesc>, Option<TextureDesc>) {
+    let t = |x: f64| TextureDesc::Value(x as f32);
+    if au == av {
+        (t(au), None, None)
+    } else {
+        (t(0.0), Some(t(au)), Some(t(av)))
+    }
+}
+
+/// A layer's integer parameter (`maxdepth`, `nsamples`), at least 1.
+fn layer_int(p: &ParamSet, name: &str, default: u32) -> Result<u32> {
+    match p.int(name)? {
+        None => Ok(default),
+        Some(v) if v >= 1 && v <= u32::MAX as i64 => Ok(v as u32),
+        Some(v) => Err(p
+            .get(name)
+            .expect("read above")
+            .error(format!("\"{name}\" must be at least 1, got {v}"))),
     }
 }

@@ -2,8 +2,13 @@
 //! `conductor`.
 
 use super::fresnel::{fresnel_conductor, reflect};
-use super::{BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
+use super::{BsdfMaterial, TextureSource};
+use crate::error::{Error, Result};
+use crate::description::ConductorDesc;
+use crate::shading::spectra;
+use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Conductor {
@@ -23,24 +28,16 @@ impl Conductor {
             specular_reflectance,
         }
     }
+}
 
-    #[inline]
-    pub fn eval(&self, _wo: Vec3, _wi: Vec3) -> Vec3 {
-        Vec3::ZERO
+impl Bsdf for Conductor {
+    /// A mirror tinted by the specular reflectance.
+    fn whitted(&self) -> Phong {
+        Phong::mirror(self.specular_reflectance)
     }
 
     #[inline]
-    pub fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
-        0.0
-    }
-
-    #[inline]
-    pub fn eval_pdf(&self, _wo: Vec3, _wi: Vec3) -> (Vec3, f32) {
-        (Vec3::ZERO, 0.0)
-    }
-
-    #[inline]
-    pub fn sample(&self, wo: Vec3, _u1: f32, _u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, _u1: f32, _u2: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -53,7 +50,54 @@ impl Conductor {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         BsdfFlags::DELTA_REFLECTION
     }
+}
+
+/// [`Conductor`] with its reflectance factor textured.
+#[derive(Clone, Debug)]
+pub struct ConductorMaterial {
+    pub eta: Vec3,
+    pub k: Vec3,
+    pub specular: Texture,
+}
+
+impl BsdfMaterial for ConductorMaterial {
+    type Desc = ConductorDesc;
+    type Bsdf = Conductor;
+
+    fn build(d: &ConductorDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        let (eta, k) = metal(d.material.as_deref(), d.eta, d.k)?;
+        Ok(ConductorMaterial {
+            eta,
+            k,
+            specular: textures.texture(&d.specular_reflectance)?,
+        })
+    }
+
+    #[inline]
+    fn at(&self, p: &TexPoint) -> Conductor {
+        Conductor::new(self.eta, self.k, self.specular.eval_at(p))
+    }
+}
+
+/// A metal's complex index: `eta` and `k` where given, the rest from the named metal (none: a
+/// perfect mirror).
+pub(crate) fn metal(
+    material: Option<&str>,
+    eta: Option<[f32; 3]>,
+    k: Option<[f32; 3]>,
+) -> Result<(Vec3, Vec3)> {
+    if let (Some(eta), Some(k)) = (eta, k) {
+        return Ok((eta.into(), k.into()));
+    }
+    let name = material.unwrap_or(spectra::NO_CONDUCTOR);
+    let (e, kk) = spectra::conductor(name).ok_or_else(|| {
+        Error::Invalid(format!(
+            "unknown conductor `{name}`, expected one of: {}",
+            spectra::CONDUCTOR_NAMES.join(", ")
+        ))
+    })?;
+    Ok((eta.map_or(e, Vec3::from), k.map_or(kk, Vec3::from)))
 }

@@ -2,8 +2,12 @@
 //! refraction, Mitsuba's `dielectric`.
 
 use super::fresnel::{fresnel_dielectric, reflect, refract};
-use super::{BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
+use super::{ior_ratio, BsdfMaterial, TextureSource};
+use crate::error::Result;
+use crate::description::DielectricDesc;
+use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dielectric {
@@ -21,27 +25,19 @@ impl Dielectric {
             specular_transmittance,
         }
     }
+}
 
-    #[inline]
-    pub fn eval(&self, _wo: Vec3, _wi: Vec3) -> Vec3 {
-        Vec3::ZERO
-    }
-
-    #[inline]
-    pub fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
-        0.0
-    }
-
-    #[inline]
-    pub fn eval_pdf(&self, _wo: Vec3, _wi: Vec3) -> (Vec3, f32) {
-        (Vec3::ZERO, 0.0)
+impl Bsdf for Dielectric {
+    /// Fresnel-weighted reflection and refraction.
+    fn whitted(&self) -> Phong {
+        Phong::glass(self.eta)
     }
 
     /// Reflection with probability `F`, else refraction, so the weight carries no Fresnel factor;
     /// refracted radiance is scaled by `1 / eta²` of the crossing (Veach 1997, section 5.2: radiance
     /// is compressed into the smaller solid angle of the denser medium).
     #[inline]
-    pub fn sample(&self, wo: Vec3, u1: f32, _u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u1: f32, _u2: Vec2) -> Option<BsdfSample> {
         let (r, cos_theta_t, eta_it, eta_ti) = fresnel_dielectric(wo.z, self.eta);
         Some(if u1 <= r {
             BsdfSample {
@@ -62,7 +58,34 @@ impl Dielectric {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         BsdfFlags::DELTA_REFLECTION | BsdfFlags::DELTA_TRANSMISSION
+    }
+}
+
+/// [`Dielectric`] with its reflectance and transmittance factors textured.
+#[derive(Clone, Debug)]
+pub struct DielectricMaterial {
+    /// Interior IOR over exterior IOR.
+    pub eta: f32,
+    pub reflectance: Texture,
+    pub transmittance: Texture,
+}
+
+impl BsdfMaterial for DielectricMaterial {
+    type Desc = DielectricDesc;
+    type Bsdf = Dielectric;
+
+    fn build(d: &DielectricDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        Ok(DielectricMaterial {
+            eta: ior_ratio(&d.int_ior, &d.ext_ior)?,
+            reflectance: textures.texture(&d.specular_reflectance)?,
+            transmittance: textures.texture(&d.specular_transmittance)?,
+        })
+    }
+
+    #[inline]
+    fn at(&self, p: &TexPoint) -> Dielectric {
+        Dielectric::new(self.eta, self.reflectance.eval_at(p), self.transmittance.eval_at(p))
     }
 }

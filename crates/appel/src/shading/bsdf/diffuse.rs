@@ -1,9 +1,14 @@
 //! Ideal diffuse (Lambertian) reflection, Mitsuba's `diffuse`.
 
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
+use super::BsdfMaterial;
+use super::TextureSource;
+use crate::error::Result;
+use crate::description::DiffuseDesc;
+use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Diffuse {
@@ -14,9 +19,16 @@ impl Diffuse {
     pub fn new(reflectance: Vec3) -> Self {
         Diffuse { reflectance }
     }
+}
+
+impl Bsdf for Diffuse {
+    /// Lambertian reflection is Whitted's diffuse lobe.
+    fn whitted(&self) -> Phong {
+        Phong::matte(self.reflectance)
+    }
 
     #[inline]
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return Vec3::ZERO;
         }
@@ -24,7 +36,7 @@ impl Diffuse {
     }
 
     #[inline]
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
@@ -32,13 +44,13 @@ impl Diffuse {
     }
 
     #[inline]
-    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         (self.eval(wo, wi), self.pdf(wo, wi))
     }
 
     /// Cosine-weighted: the weight is the reflectance.
     #[inline]
-    pub fn sample(&self, wo: Vec3, _u1: f32, u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, _u1: f32, u2: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -53,7 +65,29 @@ impl Diffuse {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         BsdfFlags::DIFFUSE_REFLECTION
+    }
+}
+
+/// [`Diffuse`] with its reflectance textured.
+#[derive(Clone, Debug)]
+pub struct DiffuseMaterial {
+    pub reflectance: Texture,
+}
+
+impl BsdfMaterial for DiffuseMaterial {
+    type Desc = DiffuseDesc;
+    type Bsdf = Diffuse;
+
+    fn build(d: &DiffuseDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        Ok(DiffuseMaterial {
+            reflectance: textures.texture(&d.reflectance)?,
+        })
+    }
+
+    #[inline]
+    fn at(&self, p: &TexPoint) -> Diffuse {
+        Diffuse::new(self.reflectance.eval_at(p).clamp(Vec3::ZERO, Vec3::ONE))
     }
 }

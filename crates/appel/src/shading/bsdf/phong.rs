@@ -4,22 +4,21 @@
 //!
 //! Its parameters are read directly by the `whitted` and `raycast` integrators, which evaluate the
 //! lobes themselves (shadow rays to delta emitters, recursion along the delta directions): see
-//! [`Phong::whitted`] and [`Bsdf::whitted`](super::Bsdf::whitted), the Whitted response every BSDF
-//! has. The model has no physically based counterpart (its highlight is not normalized, its
+//! [`Bsdf::whitted`], the Whitted response every BSDF has (each BSDF's file defines its own). The model has no physically based counterpart (its highlight is not normalized, its
 //! coefficients need not conserve energy), so the Monte Carlo integrators see it as its nearest
 //! physically based BSDF: glass of its index where it transmits, a mirror of its reflection
 //! coefficient where that is at least one half, otherwise Lambertian reflection of its diffuse
 //! colour (documented in docs/scene-format.md).
 
-use super::{Bsdf, RoughConductor};
-use super::{
-    BsdfFlags, BsdfSample, Conductor, Dielectric, Diffuse, Plastic, Principled, PrincipledThin,
-    RoughPlastic,
-};
+use super::{Bsdf, BsdfFlags, BsdfMaterial, BsdfSample, Conductor, Dielectric, Diffuse};
+use super::TextureSource;
+use crate::description::PhongDesc;
+use crate::error::Result;
 use crate::math::{Vec2, Vec3};
+use crate::shading::texture::TexPoint;
 
 /// A `phong` material's constant parameters: its colour (with an optional procedural
-/// checkerboard) and its coefficients. [`Self::at`] gives the BSDF at a surface point.
+/// checkerboard) and its coefficients. [`Self::at_uv`] gives the BSDF at a surface point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PhongParams {
     pub color: Vec3,
@@ -66,9 +65,28 @@ pub struct Phong {
 }
 
 impl PhongParams {
+    /// A `phong` material's parameters as written.
+    pub fn from_desc(d: &PhongDesc) -> PhongParams {
+        PhongParams {
+            color: d.color.into(),
+            checker: d.checker.as_ref().map(|c| Checker {
+                color: c.color.into(),
+                size: c.size,
+            }),
+            ambient: d.ambient,
+            diffuse: d.diffuse,
+            specular: d.specular,
+            shininess: d.shininess,
+            reflection: d.reflection,
+            transmission: d.transmission,
+            ior: d.ior,
+            fresnel: d.fresnel,
+        }
+    }
+
     /// The BSDF at texture coordinates `uv` (read only when [`Self::needs_uv`]).
     #[inline(always)]
-    pub fn at(&self, uv: Vec2) -> Phong {
+    pub fn at_uv(&self, uv: Vec2) -> Phong {
         Phong {
             albedo: self.albedo(uv),
             ambient: self.ambient,
@@ -99,7 +117,7 @@ impl PhongParams {
         }
     }
 
-    /// Whether [`Self::at`] depends on `uv`: surfaces may skip computing it otherwise.
+    /// Whether [`Self::at_uv`] depends on `uv`: surfaces may skip computing it otherwise.
     #[inline]
     pub fn needs_uv(&self) -> bool {
         self.checker.is_some()
@@ -140,16 +158,41 @@ impl Phong {
         }
     }
 
+    /// An ideal mirror tinted by `tint`: the response of delta (or, for the recursion, rough)
+    /// reflection.
+    pub fn mirror(tint: Vec3) -> Self {
+        Phong {
+            diffuse: 0.0,
+            reflection: 1.0,
+            ..Phong::matte(tint)
+        }
+    }
+
+    /// Fresnel-weighted reflection and refraction into a medium of relative index `eta`.
+    pub fn glass(eta: f32) -> Self {
+        Phong {
+            diffuse: 0.0,
+            transmission: 1.0,
+            ior: eta,
+            fresnel: true,
+            ..Phong::matte(Vec3::ZERO)
+        }
+    }
+
+    /// A diffuse `albedo` under a glossy coating, the coating as a Blinn highlight of exponent
+    /// `shininess`.
+    pub fn coated(albedo: Vec3, shininess: f32) -> Self {
+        Phong {
+            specular: 1.0,
+            shininess,
+            ..Phong::matte(albedo)
+        }
+    }
+
     /// Whether a reflected or refracted ray is traced from the point.
     #[inline(always)]
     pub fn is_specular(&self) -> bool {
         self.reflection > 0.0 || self.transmission > 0.0
-    }
-
-    /// What Whitted's integrator reads of this BSDF: itself.
-    #[inline(always)]
-    pub fn whitted(&self) -> Phong {
-        *self
     }
 
     fn equivalent(&self) -> Equivalent {
@@ -171,89 +214,51 @@ impl Phong {
             ))
         }
     }
+}
 
+impl Bsdf for Phong {
     #[inline]
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         equivalent!(self, b => b.eval(wo, wi))
     }
 
     #[inline]
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         equivalent!(self, b => b.pdf(wo, wi))
     }
 
     #[inline]
-    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         equivalent!(self, b => b.eval_pdf(wo, wi))
     }
 
     #[inline]
-    pub fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
         equivalent!(self, b => b.sample(wo, u1, u2))
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         equivalent!(self, b => b.flags())
+    }
+
+    /// What Whitted's integrator reads of this BSDF: itself.
+    #[inline(always)]
+    fn whitted(&self) -> Phong {
+        *self
     }
 }
 
-impl Bsdf {
-    /// The BSDF as Whitted's integrator sees it, its lobes as Phong's: a diffuse lobe as the
-    /// Lambertian one, delta reflection as the mirror, delta refraction as the refraction (with
-    /// the Fresnel weights of the dielectric), a glossy coating as a Blinn highlight. Rough
-    /// metals are taken as mirrors and rough glass as smooth glass: the recursion follows delta
-    /// directions only.
-    pub fn whitted(&self) -> Phong {
-        let mirror = Phong {
-            diffuse: 0.0,
-            reflection: 1.0,
-            ..Phong::matte(Vec3::ZERO)
-        };
-        let glass = |eta: f32| Phong {
-            diffuse: 0.0,
-            transmission: 1.0,
-            ior: eta,
-            fresnel: true,
-            ..Phong::matte(Vec3::ZERO)
-        };
-        let coated = |albedo: Vec3, shininess: f32| Phong {
-            specular: 1.0,
-            shininess,
-            ..Phong::matte(albedo)
-        };
-        match self {
-            Bsdf::Phong(b) => b.whitted(),
-            Bsdf::Diffuse(Diffuse { reflectance }) => Phong::matte(*reflectance),
-            Bsdf::Conductor(Conductor {
-                specular_reflectance,
-                ..
-            })
-            | Bsdf::RoughConductor(RoughConductor {
-                specular_reflectance,
-                ..
-            }) => Phong {
-                albedo: *specular_reflectance,
-                ..mirror
-            },
-            Bsdf::Dielectric(b) => glass(b.eta),
-            Bsdf::ThinDielectric(b) => glass(b.eta),
-            Bsdf::RoughDielectric(b) => glass(b.eta),
-            Bsdf::Plastic(Plastic {
-                diffuse_reflectance,
-                ..
-            }) => coated(*diffuse_reflectance, 200.0),
-            Bsdf::RoughPlastic(RoughPlastic {
-                diffuse_reflectance,
-                ..
-            }) => coated(*diffuse_reflectance, 30.0),
-            // The diffuse base, with the glossy lobe as a highlight.
-            Bsdf::Principled(Principled { base_color, .. }) => Phong {
-                specular: 0.5,
-                shininess: 50.0,
-                ..Phong::matte(*base_color)
-            },
-            Bsdf::PrincipledThin(PrincipledThin { base_color, .. }) => Phong::matte(*base_color),
-        }
+impl BsdfMaterial for PhongParams {
+    type Desc = PhongDesc;
+    type Bsdf = Phong;
+
+    fn build(d: &PhongDesc, _: &mut dyn TextureSource) -> Result<Self> {
+        Ok(PhongParams::from_desc(d))
+    }
+
+    #[inline(always)]
+    fn at(&self, p: &TexPoint) -> Phong {
+        self.at_uv(p.uv)
     }
 }
 
@@ -273,6 +278,7 @@ fn floor_i64(x: f32) -> i64 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::AnyBsdf;
     use super::*;
 
     fn params() -> PhongParams {
@@ -298,10 +304,10 @@ mod tests {
         let m = params();
         let red = Vec3::new(1.0, 0.0, 0.0);
         let yellow = Vec3::new(1.0, 1.0, 0.0);
-        assert_eq!(m.at(Vec2::new(0.5, 0.5)).albedo, red);
-        assert_eq!(m.at(Vec2::new(2.5, 0.5)).albedo, yellow);
-        assert_eq!(m.at(Vec2::new(-0.5, 0.5)).albedo, yellow);
-        assert_eq!(m.at(Vec2::new(-0.5, -0.5)).albedo, red);
+        assert_eq!(m.at_uv(Vec2::new(0.5, 0.5)).albedo, red);
+        assert_eq!(m.at_uv(Vec2::new(2.5, 0.5)).albedo, yellow);
+        assert_eq!(m.at_uv(Vec2::new(-0.5, 0.5)).albedo, yellow);
+        assert_eq!(m.at_uv(Vec2::new(-0.5, -0.5)).albedo, red);
         assert!(m.needs_uv());
     }
 
@@ -311,7 +317,7 @@ mod tests {
     fn monte_carlo_reading_is_the_nearest_physical_bsdf() {
         let wo = Vec3::new(0.3, -0.2, 0.9).normalize();
         let wi = Vec3::new(-0.4, 0.1, 0.8).normalize();
-        let matte = params().at(Vec2::new(0.5, 0.5));
+        let matte = params().at_uv(Vec2::new(0.5, 0.5));
         let lambert = Diffuse::new(Vec3::new(0.9, 0.0, 0.0));
         assert_eq!(matte.eval(wo, wi), lambert.eval(wo, wi));
         assert_eq!(matte.pdf(wo, wi), lambert.pdf(wo, wi));
@@ -342,16 +348,16 @@ mod tests {
 
     #[test]
     fn whitted_response_follows_the_bsdf() {
-        let phong = params().at(Vec2::new(2.5, 0.5));
-        assert_eq!(Bsdf::Phong(phong).whitted(), phong);
+        let phong = params().at_uv(Vec2::new(2.5, 0.5));
+        assert_eq!(AnyBsdf::Phong(phong).whitted(), phong);
         let grey = Vec3::splat(0.4);
-        let d = Bsdf::Diffuse(Diffuse::new(grey)).whitted();
+        let d = AnyBsdf::Diffuse(Diffuse::new(grey)).whitted();
         assert_eq!((d.albedo, d.diffuse, d.specular), (grey, 1.0, 0.0));
         assert!(!d.is_specular());
-        let g = Bsdf::Dielectric(Dielectric::new(1.33, Vec3::ONE, Vec3::ONE)).whitted();
+        let g = AnyBsdf::Dielectric(Dielectric::new(1.33, Vec3::ONE, Vec3::ONE)).whitted();
         assert_eq!((g.transmission, g.reflection, g.ior), (1.0, 0.0, 1.33));
         assert!(g.fresnel && g.diffuse == 0.0);
-        let m = Bsdf::Conductor(Conductor::new(Vec3::ONE, Vec3::ONE, Vec3::ONE)).whitted();
+        let m = AnyBsdf::Conductor(Conductor::new(Vec3::ONE, Vec3::ONE, Vec3::ONE)).whitted();
         assert_eq!((m.reflection, m.diffuse, m.transmission), (1.0, 0.0, 0.0));
     }
 

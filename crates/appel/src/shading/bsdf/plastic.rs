@@ -4,8 +4,12 @@
 
 use super::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance, reflect};
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
+use super::{ior_ratio, texture_mean, BsdfMaterial, TextureSource};
+use crate::error::Result;
+use crate::description::PlasticDesc;
+use crate::shading::texture::{TexPoint, Texture};
 
 /// What a plastic material computes once at scene load from its constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,12 +83,19 @@ impl Plastic {
             d / (1.0 - self.fdr_int)
         }
     }
+}
+
+impl Bsdf for Plastic {
+    /// The diffuse base with the smooth coating as a sharp highlight.
+    fn whitted(&self) -> Phong {
+        Phong::coated(self.diffuse_reflectance, 200.0)
+    }
 
     /// Only the diffuse lobe: light enters the coating (`1 - F(θi)`), is diffused, leaves it
     /// (`1 - F(θo)`), and the radiance leaving is that inside scaled by `1 / η²` (Veach 1997,
     /// section 5.2: the solid angle widens on the way out).
     #[inline]
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return Vec3::ZERO;
         }
@@ -97,7 +108,7 @@ impl Plastic {
     }
 
     #[inline]
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
@@ -106,11 +117,11 @@ impl Plastic {
     }
 
     #[inline]
-    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         (self.eval(wo, wi), self.pdf(wo, wi))
     }
 
-    pub fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -143,7 +154,40 @@ impl Plastic {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         BsdfFlags::DELTA_REFLECTION | BsdfFlags::DIFFUSE_REFLECTION
+    }
+}
+
+/// [`Plastic`] with its reflectances textured and its constants precomputed.
+#[derive(Clone, Debug)]
+pub struct PlasticMaterial {
+    pub params: PlasticParams,
+    pub diffuse: Texture,
+    pub specular: Texture,
+}
+
+impl BsdfMaterial for PlasticMaterial {
+    type Desc = PlasticDesc;
+    type Bsdf = Plastic;
+
+    fn build(d: &PlasticDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        let diffuse = textures.texture(&d.diffuse_reflectance)?;
+        let specular = textures.texture(&d.specular_reflectance)?;
+        Ok(PlasticMaterial {
+            params: PlasticParams::precompute(
+                ior_ratio(&d.int_ior, &d.ext_ior)?,
+                d.nonlinear,
+                texture_mean(&diffuse),
+                texture_mean(&specular),
+            ),
+            diffuse,
+            specular,
+        })
+    }
+
+    #[inline]
+    fn at(&self, p: &TexPoint) -> Plastic {
+        Plastic::new(&self.params, self.diffuse.eval_at(p), self.specular.eval_at(p))
     }
 }

@@ -19,10 +19,14 @@
 use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
 use super::microfacet::{Microfacet, MicrofacetKind};
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{mulsign, BsdfFlags, BsdfSample};
+use super::{Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use crate::shading::texture::luminance;
 use std::f32::consts::{FRAC_1_PI, PI};
+use super::{BsdfMaterial, TextureSource};
+use crate::error::Result;
+use crate::description::{PrincipledDesc, TextureDesc};
+use crate::shading::texture::{TexPoint, Texture};
 
 /// The per-hit values of a principled material.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -293,9 +297,20 @@ impl Principled {
         let h = (wo + wi * if reflect { 1.0 } else { eta_path }).normalize();
         mulsign(h, h.z)
     }
+}
+
+impl Bsdf for Principled {
+    /// The diffuse base, with the glossy lobe as a highlight.
+    fn whitted(&self) -> Phong {
+        Phong {
+            specular: 0.5,
+            shininess: 50.0,
+            ..Phong::matte(self.base_color)
+        }
+    }
 
     #[inline]
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         let cos_o = wo.z;
         let cos_i = wi.z;
         if cos_o == 0.0 {
@@ -352,7 +367,7 @@ impl Principled {
     }
 
     #[inline]
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let cos_o = wo.z;
         let cos_i = wi.z;
         let front = cos_o > 0.0;
@@ -394,11 +409,11 @@ impl Principled {
     }
 
     #[inline]
-    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         (self.eval(wo, wi), self.pdf(wo, wi))
     }
 
-    pub fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
         let cos_o = wo.z;
         let front = cos_o > 0.0;
         let (_, bsdf) = self.weights();
@@ -445,7 +460,7 @@ impl Principled {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         let mut f = BsdfFlags::DIFFUSE_REFLECTION | BsdfFlags::GLOSSY_REFLECTION;
         if self.spec_trans > 0.0 && self.metallic < 1.0 {
             f = f | BsdfFlags::GLOSSY_TRANSMISSION;
@@ -458,4 +473,87 @@ impl Principled {
 /// `eta = 2 / (1 - sqrt(0.08 specular)) - 1`, Mitsuba's inversion of `R0 = 0.08 specular`.
 pub fn specular_to_eta(specular: f32) -> f32 {
     2.0 / (1.0 - (0.08 * specular).sqrt()) - 1.0
+}
+
+/// The textured parameters of [`Principled`]; `eta` is resolved from `specular` at load.
+#[derive(Clone, Debug)]
+pub struct PrincipledTextures {
+    pub base_color: Texture,
+    pub roughness: Texture,
+    pub anisotropic: Texture,
+    pub metallic: Texture,
+    pub spec_trans: Texture,
+    pub spec_tint: Texture,
+    pub sheen: Texture,
+    pub sheen_tint: Texture,
+    pub flatness: Texture,
+    pub clearcoat: Texture,
+    pub clearcoat_gloss: Texture,
+    pub eta: f32,
+    /// Diffuse, main specular and clearcoat sampling rates.
+    pub rates: [f32; 3],
+}
+
+/// Boxed: the parameters are many, and the other materials should not pay for their size.
+pub type PrincipledMaterial = Box<PrincipledTextures>;
+
+impl BsdfMaterial for Box<PrincipledTextures> {
+    type Desc = PrincipledDesc;
+    type Bsdf = Principled;
+
+    fn build(x: &PrincipledDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        // Mitsuba's constructor: a transmitting material (spec_trans given and not a zero
+        // number) never gets eta exactly 1 (no refraction) or specular 0 (the same).
+        let transmits = x.spec_trans != TextureDesc::Value(0.0);
+        let eta = match (x.eta, x.specular) {
+            (Some(eta), _) if transmits && eta == 1.0 => 1.001,
+            (Some(eta), _) => eta,
+            (None, s) => {
+                let s = s.unwrap_or(0.5);
+                specular_to_eta(if transmits && s == 0.0 { 1e-3 } else { s })
+            }
+        };
+        let mut tex = |t: &TextureDesc| textures.texture(t);
+        Ok(Box::new(PrincipledTextures {
+            base_color: tex(&x.base_color)?,
+            roughness: tex(&x.roughness)?,
+            anisotropic: tex(&x.anisotropic)?,
+            metallic: tex(&x.metallic)?,
+            spec_trans: tex(&x.spec_trans)?,
+            spec_tint: tex(&x.spec_tint)?,
+            sheen: tex(&x.sheen)?,
+            sheen_tint: tex(&x.sheen_tint)?,
+            flatness: tex(&x.flatness)?,
+            clearcoat: tex(&x.clearcoat)?,
+            clearcoat_gloss: tex(&x.clearcoat_gloss)?,
+            eta,
+            rates: [
+                x.diffuse_reflectance_sampling_rate,
+                x.main_specular_sampling_rate,
+                x.clearcoat_sampling_rate,
+            ],
+        }))
+    }
+
+    #[inline]
+    fn at(&self, tp: &TexPoint) -> Principled {
+        let p = self;
+        Principled {
+            base_color: p.base_color.eval_at(tp),
+            roughness: p.roughness.eval_1_at(tp),
+            anisotropic: p.anisotropic.eval_1_at(tp),
+            metallic: p.metallic.eval_1_at(tp),
+            spec_trans: p.spec_trans.eval_1_at(tp),
+            spec_tint: p.spec_tint.eval_1_at(tp),
+            sheen: p.sheen.eval_1_at(tp),
+            sheen_tint: p.sheen_tint.eval_1_at(tp),
+            flatness: p.flatness.eval_1_at(tp),
+            clearcoat: p.clearcoat.eval_1_at(tp),
+            clearcoat_gloss: p.clearcoat_gloss.eval_1_at(tp),
+            eta: p.eta,
+            diffuse_rate: p.rates[0],
+            specular_rate: p.rates[1],
+            clearcoat_rate: p.rates[2],
+        }
+    }
 }

@@ -11,9 +11,13 @@ use super::principled::{
     schlick_weight, sheen_color, tint,
 };
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{mulsign, BsdfFlags, BsdfSample};
+use super::{Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
+use super::{BsdfMaterial, TextureSource};
+use crate::error::Result;
+use crate::description::{PrincipledThinDesc, TextureDesc};
+use crate::shading::texture::{TexPoint, Texture};
 
 /// The per-hit values of a thin principled material.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,8 +82,15 @@ impl PrincipledThin {
         let h = (o + Vec3::new(i.x, i.y, i.z.abs())).normalize();
         (o, i, h)
     }
+}
 
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+impl Bsdf for PrincipledThin {
+    /// The diffuse base.
+    fn whitted(&self) -> Phong {
+        Phong::matte(self.base_color)
+    }
+
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z == 0.0 {
             return Vec3::ZERO;
         }
@@ -128,7 +139,7 @@ impl PrincipledThin {
         value
     }
 
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z == 0.0 {
             return 0.0;
         }
@@ -159,11 +170,11 @@ impl PrincipledThin {
     }
 
     #[inline]
-    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         (self.eval(wo, wi), self.pdf(wo, wi))
     }
 
-    pub fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -211,7 +222,7 @@ impl PrincipledThin {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         let mut f = BsdfFlags::DIFFUSE_REFLECTION;
         if self.diff_trans > 0.0 {
             f = f | BsdfFlags::DIFFUSE_TRANSMISSION;
@@ -220,5 +231,73 @@ impl PrincipledThin {
             f = f | BsdfFlags::GLOSSY_REFLECTION | BsdfFlags::GLOSSY_TRANSMISSION;
         }
         f
+    }
+}
+
+/// The textured parameters of [`PrincipledThin`].
+#[derive(Clone, Debug)]
+pub struct PrincipledThinTextures {
+    pub base_color: Texture,
+    pub roughness: Texture,
+    pub anisotropic: Texture,
+    pub spec_trans: Texture,
+    pub spec_tint: Texture,
+    pub sheen: Texture,
+    pub sheen_tint: Texture,
+    pub flatness: Texture,
+    pub diff_trans: Texture,
+    pub eta: Texture,
+    /// Specular reflection and transmission, diffuse reflection and transmission sampling rates.
+    pub rates: [f32; 4],
+}
+
+/// Boxed, as [`super::PrincipledMaterial`].
+pub type PrincipledThinMaterial = Box<PrincipledThinTextures>;
+
+impl BsdfMaterial for Box<PrincipledThinTextures> {
+    type Desc = PrincipledThinDesc;
+    type Bsdf = PrincipledThin;
+
+    fn build(x: &PrincipledThinDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        let mut tex = |t: &TextureDesc| textures.texture(t);
+        Ok(Box::new(PrincipledThinTextures {
+            base_color: tex(&x.base_color)?,
+            roughness: tex(&x.roughness)?,
+            anisotropic: tex(&x.anisotropic)?,
+            spec_trans: tex(&x.spec_trans)?,
+            spec_tint: tex(&x.spec_tint)?,
+            sheen: tex(&x.sheen)?,
+            sheen_tint: tex(&x.sheen_tint)?,
+            flatness: tex(&x.flatness)?,
+            diff_trans: tex(&x.diff_trans)?,
+            eta: tex(&x.eta)?,
+            rates: [
+                x.specular_reflectance_sampling_rate,
+                x.specular_transmittance_sampling_rate,
+                x.diffuse_reflectance_sampling_rate,
+                x.diffuse_transmittance_sampling_rate,
+            ],
+        }))
+    }
+
+    #[inline]
+    fn at(&self, tp: &TexPoint) -> PrincipledThin {
+        let p = self;
+        PrincipledThin {
+            base_color: p.base_color.eval_at(tp),
+            roughness: p.roughness.eval_1_at(tp),
+            anisotropic: p.anisotropic.eval_1_at(tp),
+            spec_trans: p.spec_trans.eval_1_at(tp),
+            spec_tint: p.spec_tint.eval_1_at(tp),
+            sheen: p.sheen.eval_1_at(tp),
+            sheen_tint: p.sheen_tint.eval_1_at(tp),
+            flatness: p.flatness.eval_1_at(tp),
+            diff_trans: p.diff_trans.eval_1_at(tp),
+            eta: p.eta.eval_1_at(tp),
+            spec_reflect_rate: p.rates[0],
+            spec_trans_rate: p.rates[1],
+            diffuse_reflect_rate: p.rates[2],
+            diffuse_trans_rate: p.rates[3],
+        }
     }
 }

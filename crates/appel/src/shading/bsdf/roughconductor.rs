@@ -3,8 +3,13 @@
 
 use super::fresnel::{fresnel_conductor, reflect_about};
 use super::microfacet::Microfacet;
-use super::{BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
+use super::conductor::metal;
+use super::{BsdfMaterial, Roughness, TextureSource};
+use crate::error::Result;
+use crate::description::RoughConductorDesc;
+use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RoughConductor {
@@ -28,10 +33,18 @@ impl RoughConductor {
     fn fresnel(&self, cos_theta: f32) -> Vec3 {
         self.specular_reflectance * fresnel_conductor(cos_theta, self.eta, self.k)
     }
+}
+
+impl Bsdf for RoughConductor {
+    /// A mirror tinted by the specular reflectance: Whitted's recursion follows delta
+    /// directions only.
+    fn whitted(&self) -> Phong {
+        Phong::mirror(self.specular_reflectance)
+    }
 
     /// `F D G / (4 cos θo)`: the `cos θi` of the convention cancels the denominator's.
     #[inline]
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return Vec3::ZERO;
         }
@@ -46,7 +59,7 @@ impl RoughConductor {
 
     /// The microfacet density times the Jacobian `1 / (4 wi·h)` of the reflection about `h`.
     #[inline]
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let h = (wo + wi).normalize();
         // The sides must agree, as smith_g1 demands in eval and sample.
         if wo.z <= 0.0 || wi.z <= 0.0 || wo.dot(h) <= 0.0 || wi.dot(h) <= 0.0 {
@@ -61,7 +74,7 @@ impl RoughConductor {
     }
 
     #[inline]
-    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         let h = (wo + wi).normalize();
         if wo.z <= 0.0 || wi.z <= 0.0 || wo.dot(h) <= 0.0 || wi.dot(h) <= 0.0 {
             return (Vec3::ZERO, 0.0);
@@ -82,7 +95,7 @@ impl RoughConductor {
     }
 
     #[inline]
-    pub fn sample(&self, wo: Vec3, _u1: f32, u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, _u1: f32, u2: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -110,7 +123,36 @@ impl RoughConductor {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         BsdfFlags::GLOSSY_REFLECTION
+    }
+}
+
+/// [`RoughConductor`] with its roughness and reflectance factor textured.
+#[derive(Clone, Debug)]
+pub struct RoughConductorMaterial {
+    pub roughness: Roughness,
+    pub eta: Vec3,
+    pub k: Vec3,
+    pub specular: Texture,
+}
+
+impl BsdfMaterial for RoughConductorMaterial {
+    type Desc = RoughConductorDesc;
+    type Bsdf = RoughConductor;
+
+    fn build(d: &RoughConductorDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        let (eta, k) = metal(d.material.as_deref(), d.eta, d.k)?;
+        Ok(RoughConductorMaterial {
+            roughness: Roughness::build(d.distribution.into(), d.alphas(), d.sample_visible, textures)?,
+            eta,
+            k,
+            specular: textures.texture(&d.specular_reflectance)?,
+        })
+    }
+
+    #[inline]
+    fn at(&self, p: &TexPoint) -> RoughConductor {
+        RoughConductor::new(self.roughness.at(p), self.eta, self.k, self.specular.eval_at(p))
     }
 }

@@ -3,8 +3,12 @@
 
 use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
 use super::microfacet::Microfacet;
-use super::{mulsign, BsdfFlags, BsdfSample};
+use super::{Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
+use super::{ior_ratio, BsdfMaterial, Roughness, TextureSource};
+use crate::error::Result;
+use crate::description::RoughDielectricDesc;
+use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RoughDielectric {
@@ -105,9 +109,16 @@ impl RoughDielectric {
         let f = fresnel_dielectric(om, self.eta).0;
         prob * if g.reflect { f } else { 1.0 - f } * dwh_dwi.abs()
     }
+}
+
+impl Bsdf for RoughDielectric {
+    /// Smooth glass of the same index: Whitted's recursion follows delta directions only.
+    fn whitted(&self) -> Phong {
+        Phong::glass(self.eta)
+    }
 
     #[inline]
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if wo.z == 0.0 {
             return Vec3::ZERO;
         }
@@ -115,7 +126,7 @@ impl RoughDielectric {
     }
 
     #[inline]
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z == 0.0 {
             return 0.0;
         }
@@ -123,7 +134,7 @@ impl RoughDielectric {
     }
 
     #[inline]
-    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         if wo.z == 0.0 {
             return (Vec3::ZERO, 0.0);
         }
@@ -138,7 +149,7 @@ impl RoughDielectric {
 
     /// A microfacet normal from the distribution seen from `wo`'s side, then reflection about it
     /// with probability `F(wo · m)`, else refraction through it.
-    pub fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
         let cos_theta_o = wo.z;
         if cos_theta_o == 0.0 {
             return None;
@@ -191,7 +202,40 @@ impl RoughDielectric {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         BsdfFlags::GLOSSY_REFLECTION | BsdfFlags::GLOSSY_TRANSMISSION
+    }
+}
+
+/// [`RoughDielectric`] with its roughness and factors textured.
+#[derive(Clone, Debug)]
+pub struct RoughDielectricMaterial {
+    pub roughness: Roughness,
+    pub eta: f32,
+    pub reflectance: Texture,
+    pub transmittance: Texture,
+}
+
+impl BsdfMaterial for RoughDielectricMaterial {
+    type Desc = RoughDielectricDesc;
+    type Bsdf = RoughDielectric;
+
+    fn build(d: &RoughDielectricDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        Ok(RoughDielectricMaterial {
+            roughness: Roughness::build(d.distribution.into(), d.alphas(), d.sample_visible, textures)?,
+            eta: ior_ratio(&d.int_ior, &d.ext_ior)?,
+            reflectance: textures.texture(&d.specular_reflectance)?,
+            transmittance: textures.texture(&d.specular_transmittance)?,
+        })
+    }
+
+    #[inline]
+    fn at(&self, p: &TexPoint) -> RoughDielectric {
+        RoughDielectric::new(
+            self.roughness.at(p),
+            self.eta,
+            self.reflectance.eval_at(p),
+            self.transmittance.eval_at(p),
+        )
     }
 }

@@ -7,10 +7,14 @@
 use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
 use super::microfacet::{Microfacet, MicrofacetKind};
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 use std::sync::Mutex;
+use super::{ior_ratio, texture_mean, BsdfMaterial, TextureSource};
+use crate::error::{Error, Result};
+use crate::description::RoughPlasticDesc;
+use crate::shading::texture::{TexPoint, Texture};
 
 /// Entries of the rough transmittance table over `cos θ ∈ [0, 1]` (Mitsuba's
 /// `MI_ROUGH_TRANSMITTANCE_RES`).
@@ -243,15 +247,22 @@ impl RoughPlastic {
         let p = self.prob_specular(t_o);
         p * specular + (1.0 - p) * square_to_cosine_hemisphere_pdf(wi)
     }
+}
+
+impl Bsdf for RoughPlastic {
+    /// The diffuse base with the rough coating as a broad highlight.
+    fn whitted(&self) -> Phong {
+        Phong::coated(self.diffuse_reflectance, 30.0)
+    }
 
     /// The coating's microfacet reflection plus the diffuse base seen through it.
     #[inline]
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+    fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         self.eval_pdf(wo, wi).0
     }
 
     #[inline]
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
@@ -262,7 +273,7 @@ impl RoughPlastic {
     }
 
     #[inline]
-    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return (Vec3::ZERO, 0.0);
         }
@@ -278,7 +289,7 @@ impl RoughPlastic {
     /// The specular lobe with probability `(1 - T(θo)) w / ((1 - T(θo)) w + T(θo) (1 - w))`,
     /// `w` the sampling weight, else the cosine-weighted base; the weight is the whole BSDF over
     /// the mixture's density, as in Mitsuba.
-    pub fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u1: f32, u2: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -306,7 +317,43 @@ impl RoughPlastic {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         BsdfFlags::GLOSSY_REFLECTION | BsdfFlags::DIFFUSE_REFLECTION
+    }
+}
+
+/// [`RoughPlastic`] with its reflectances textured and its coating's albedo precomputed.
+#[derive(Clone, Debug)]
+pub struct RoughPlasticMaterial {
+    pub params: RoughPlasticParams,
+    pub diffuse: Texture,
+    pub specular: Texture,
+}
+
+impl BsdfMaterial for RoughPlasticMaterial {
+    type Desc = RoughPlasticDesc;
+    type Bsdf = RoughPlastic;
+
+    fn build(d: &RoughPlasticDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        let diffuse = textures.texture(&d.diffuse_reflectance)?;
+        let specular = textures.texture(&d.specular_reflectance)?;
+        let alpha = d.constant_alpha().map_err(|e| Error::Invalid(e.message))?;
+        let distribution = Microfacet::new(d.distribution.into(), alpha, alpha, d.sample_visible);
+        Ok(RoughPlasticMaterial {
+            params: RoughPlasticParams::precompute(
+                distribution,
+                ior_ratio(&d.int_ior, &d.ext_ior)?,
+                d.nonlinear,
+                texture_mean(&diffuse),
+                texture_mean(&specular),
+            ),
+            diffuse,
+            specular,
+        })
+    }
+
+    #[inline]
+    fn at(&self, p: &TexPoint) -> RoughPlastic {
+        RoughPlastic::new(&self.params, self.diffuse.eval_at(p), self.specular.eval_at(p))
     }
 }

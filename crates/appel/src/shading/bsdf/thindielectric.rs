@@ -2,8 +2,12 @@
 //! passing straight through undeviated, Mitsuba's `thindielectric`.
 
 use super::fresnel::{fresnel_dielectric, reflect};
-use super::{BsdfFlags, BsdfSample};
+use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
+use super::{ior_ratio, BsdfMaterial, TextureSource};
+use crate::error::Result;
+use crate::description::ThinDielectricDesc;
+use crate::shading::texture::{TexPoint, Texture};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ThinDielectric {
@@ -29,26 +33,18 @@ impl ThinDielectric {
         let r = fresnel_dielectric(cos_theta.abs(), self.eta).0;
         r * 2.0 / (1.0 + r)
     }
+}
 
-    #[inline]
-    pub fn eval(&self, _wo: Vec3, _wi: Vec3) -> Vec3 {
-        Vec3::ZERO
-    }
-
-    #[inline]
-    pub fn pdf(&self, _wo: Vec3, _wi: Vec3) -> f32 {
-        0.0
-    }
-
-    #[inline]
-    pub fn eval_pdf(&self, _wo: Vec3, _wi: Vec3) -> (Vec3, f32) {
-        (Vec3::ZERO, 0.0)
+impl Bsdf for ThinDielectric {
+    /// Fresnel-weighted reflection and refraction (of the sheet's index).
+    fn whitted(&self) -> Phong {
+        Phong::glass(self.eta)
     }
 
     /// Reflection with probability `2R / (1 + R)`, else straight through (`-wo`, eta 1: the two
     /// refractions cancel, and so does the radiance scaling).
     #[inline]
-    pub fn sample(&self, wo: Vec3, u1: f32, _u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u1: f32, _u2: Vec2) -> Option<BsdfSample> {
         let r = self.reflectance(wo.z);
         Some(if u1 <= r {
             BsdfSample {
@@ -69,7 +65,34 @@ impl ThinDielectric {
         })
     }
 
-    pub fn flags(&self) -> BsdfFlags {
+    fn flags(&self) -> BsdfFlags {
         BsdfFlags::DELTA_REFLECTION | BsdfFlags::DELTA_TRANSMISSION
+    }
+}
+
+/// [`ThinDielectric`] with its reflectance and transmittance factors textured.
+#[derive(Clone, Debug)]
+pub struct ThinDielectricMaterial {
+    /// Interior IOR over exterior IOR.
+    pub eta: f32,
+    pub reflectance: Texture,
+    pub transmittance: Texture,
+}
+
+impl BsdfMaterial for ThinDielectricMaterial {
+    type Desc = ThinDielectricDesc;
+    type Bsdf = ThinDielectric;
+
+    fn build(d: &ThinDielectricDesc, textures: &mut dyn TextureSource) -> Result<Self> {
+        Ok(ThinDielectricMaterial {
+            eta: ior_ratio(&d.int_ior, &d.ext_ior)?,
+            reflectance: textures.texture(&d.specular_reflectance)?,
+            transmittance: textures.texture(&d.specular_transmittance)?,
+        })
+    }
+
+    #[inline]
+    fn at(&self, p: &TexPoint) -> ThinDielectric {
+        ThinDielectric::new(self.eta, self.reflectance.eval_at(p), self.transmittance.eval_at(p))
     }
 }

@@ -8,17 +8,14 @@ use super::origin::origin_of;
 use super::Converter;
 use crate::description::origins::key_path;
 use crate::description::{
-    BlendDesc, BumpMapDesc, ConductorDesc, DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc,
-    MaskDesc, MaterialDesc, NormalMapDesc, PlasticDesc, PrincipledDesc, PrincipledThinDesc,
-    RoughConductorDesc, RoughDielectricDesc, RoughPlasticDesc, TextureDesc, TextureFilter,
-    TextureNode, TextureWrap, TwoSidedDesc,
+    BlendDesc, BsdfParams, BumpMapDesc, CoatedConductorDesc, CoatedDiffuseDesc, ConductorDesc,
+    DielectricDesc, DiffuseDesc, DistributionDesc, IorDesc, MaskDesc, MaterialDesc, NormalMapDesc,
+    PhongDesc, PlasticDesc, PrincipledDesc, PrincipledThinDesc, RoughConductorDesc,
+    RoughDielectricDesc, RoughPlasticDesc, TextureDesc, TextureFilter, TextureNode, TextureWrap,
+    ThinDielectricDesc, TwoSidedDesc,
 };
 use crate::error::Result;
 use std::rc::Rc;
-
-const BSDFS: &str = "diffuse, conductor, roughconductor, dielectric, thindielectric, \
-                     roughdielectric, plastic, roughplastic, principled, principledthin, \
-                     twosided, mask, normalmap, bumpmap, blendbsdf";
 
 /// Mitsuba's BSDF for shapes without one: diffuse, reflectance 0.5.
 pub(super) fn mitsuba_default() -> MaterialDesc {
@@ -93,19 +90,18 @@ impl Converter<'_> {
                     sample_visible,
                 })
             }
-            "dielectric" | "thindielectric" => {
-                let d = DielectricDesc {
-                    int_ior: ior(b, "int_ior", "bk7")?,
-                    ext_ior: ior(b, "ext_ior", "air")?,
-                    specular_reflectance: tex(self, b, "specular_reflectance", 1.0)?,
-                    specular_transmittance: tex(self, b, "specular_transmittance", 1.0)?,
-                };
-                if b.plugin == "dielectric" {
-                    MaterialDesc::Dielectric(d)
-                } else {
-                    MaterialDesc::ThinDielectric(d)
-                }
-            }
+            "dielectric" => MaterialDesc::Dielectric(DielectricDesc {
+                int_ior: ior(b, "int_ior", "bk7")?,
+                ext_ior: ior(b, "ext_ior", "air")?,
+                specular_reflectance: tex(self, b, "specular_reflectance", 1.0)?,
+                specular_transmittance: tex(self, b, "specular_transmittance", 1.0)?,
+            }),
+            "thindielectric" => MaterialDesc::ThinDielectric(ThinDielectricDesc {
+                int_ior: ior(b, "int_ior", "bk7")?,
+                ext_ior: ior(b, "ext_ior", "air")?,
+                specular_reflectance: tex(self, b, "specular_reflectance", 1.0)?,
+                specular_transmittance: tex(self, b, "specular_transmittance", 1.0)?,
+            }),
             "roughdielectric" => {
                 let (distribution, alpha, alpha_u, alpha_v, sample_visible) = rough(self, b, true)?;
                 MaterialDesc::RoughDielectric(RoughDielectricDesc {
@@ -194,6 +190,37 @@ impl Converter<'_> {
                     .float_or("diffuse_transmittance_sampling_rate", 1.0)?
                     as f32,
             }),
+            // pbrt-v4's layered BSDFs, with the keys of Appel's scene format (Mitsuba has no
+            // such plugin).
+            "coateddiffuse" => MaterialDesc::CoatedDiffuse(CoatedDiffuseDesc {
+                reflectance: tex(self, b, "reflectance", 0.5)?,
+                alpha: tex(self, b, "alpha", 0.0)?,
+                alpha_u: texture(self, b, "alpha_u", SpectrumUse::Reflectance)?,
+                alpha_v: texture(self, b, "alpha_v", SpectrumUse::Reflectance)?,
+                eta: b.float_or("eta", 1.5)? as f32,
+                thickness: b.float_or("thickness", 0.01)? as f32,
+                albedo: tex(self, b, "albedo", 0.0)?,
+                g: b.float_or("g", 0.0)? as f32,
+                maxdepth: layer_int(b, "maxdepth", 10)?,
+                nsamples: layer_int(b, "nsamples", 1)?,
+            }),
+            "coatedconductor" => MaterialDesc::CoatedConductor(CoatedConductorDesc {
+                interface_eta: b.float_or("interface_eta", 1.5)? as f32,
+                interface_alpha: tex(self, b, "interface_alpha", 0.0)?,
+                interface_alpha_u: texture(self, b, "interface_alpha_u", SpectrumUse::Reflectance)?,
+                interface_alpha_v: texture(self, b, "interface_alpha_v", SpectrumUse::Reflectance)?,
+                conductor_material: b.string("conductor_material")?.unwrap_or("Cu").to_string(),
+                conductor_eta: constant_color(self, b, "conductor_eta", SpectrumUse::Unbounded)?,
+                conductor_k: constant_color(self, b, "conductor_k", SpectrumUse::Unbounded)?,
+                conductor_alpha: tex(self, b, "conductor_alpha", 0.0)?,
+                conductor_alpha_u: texture(self, b, "conductor_alpha_u", SpectrumUse::Reflectance)?,
+                conductor_alpha_v: texture(self, b, "conductor_alpha_v", SpectrumUse::Reflectance)?,
+                thickness: b.float_or("thickness", 0.01)? as f32,
+                albedo: tex(self, b, "albedo", 0.0)?,
+                g: b.float_or("g", 0.0)? as f32,
+                maxdepth: layer_int(b, "maxdepth", 10)?,
+                nsamples: layer_int(b, "nsamples", 1)?,
+            }),
             "twosided" => {
                 let nested = self.nested_bsdfs(b)?;
                 match nested.as_slice() {
@@ -272,12 +299,26 @@ impl Converter<'_> {
                 })
             }
             p => {
+                // `phong` is Whitted's model, appel's own: Mitsuba's XML has no such plugin.
+                let supported: Vec<&str> = MaterialDesc::BSDF_NAMES
+                    .iter()
+                    .filter(|n| **n != <PhongDesc as BsdfParams>::NAME)
+                    .chain(MaterialDesc::WRAPPER_NAMES)
+                    .copied()
+                    .collect();
                 return Err(b.error(format!(
-                    "unsupported BSDF plugin \"{p}\" (supported: {BSDFS})"
-                )))
+                    "unsupported BSDF plugin \"{p}\" (supported: {})",
+                    supported.join(", ")
+                )));
             }
         })
     }
+}
+
+/// A layered BSDF's walk bound (`maxdepth`, `nsamples`); validation bounds it further.
+fn layer_int(b: &Object, name: &str, default: u32) -> Result<u32> {
+    Ok(b.int_in(name, 1..=u32::MAX as i64)?
+        .map_or(default, |v| v as u32))
 }
 
 /// A reflectance-like texture parameter with Mitsuba's default.
