@@ -102,6 +102,10 @@ mod tests {
     #[test]
     fn phong_is_read_by_name_alias_and_default() {
         let text = r#"
+[camera]
+eye = [0, 0, 5]
+look_at = [0, 0, 0]
+
 [materials.named]
 type = "phong"
 reflection = 0.5
