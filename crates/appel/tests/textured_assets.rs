@@ -180,12 +180,13 @@ fn render_model_lit(path: &Path, w: u32, h: u32, spp: u32) -> Film {
     (base.camera.width, base.camera.height) = (w, h);
     let mut scene = Scene::new(&base, path.parent().unwrap()).unwrap_or_else(|e| panic!("{e}"));
     let mut view = view_model(&scene, &base, None).unwrap();
-    view.lights
-        .push(appel::description::LightDesc::Directional {
+    view.lights.push(appel::description::LightDesc::Directional(
+        appel::description::DirectionalDesc {
             direction: [0.4, -0.6, -0.7],
             color: [1.0; 3],
             intensity: 3.0,
-        });
+        },
+    ));
     scene.set_view(&view).unwrap();
     scene.settings.integrator = view.render.integrator;
     scene.settings.max_depth = view.render.max_depth;
@@ -589,14 +590,14 @@ fn gltf_lights_and_cameras_follow_their_nodes() {
     .unwrap_or_else(|e| panic!("{e}"));
     use appel::description::LightDesc;
     match &m.lights[0] {
-        LightDesc::Spot {
+        LightDesc::Spot(appel::description::SpotDesc {
             position,
             look_at,
             intensity,
             cutoff_angle,
             beam_width,
             ..
-        } => {
+        }) => {
             assert_eq!(*position, [0.0, 2.0, 0.0]);
             assert_eq!(*look_at, [0.0, 2.0, -1.0]);
             assert_eq!(*intensity, 5.0);
@@ -607,9 +608,9 @@ fn gltf_lights_and_cameras_follow_their_nodes() {
     }
     match &m.lights[1] {
         // -z turned by -90 degrees about x: straight down.
-        LightDesc::Directional {
+        LightDesc::Directional(appel::description::DirectionalDesc {
             direction, color, ..
-        } => {
+        }) => {
             assert!((Vec3::from(*direction) - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-5);
             assert_eq!(*color, [1.0, 0.5, 0.25]);
         }

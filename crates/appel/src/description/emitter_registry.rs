@@ -7,37 +7,39 @@
 /// - `name`: its name (`[[light]] type`, Mitsuba's plugin name);
 /// - `runtime`: the type in `shading/emitter/` (`module::Type`) that implements
 ///   `EmitterPlugin`;
-/// - `light`: whether it is a `[[light]]` of its own (`false`: a surface's `emitter`).
+/// - `light`: `[Desc]`, its parameters' struct in `description/emitter/` (implementing
+///   [`super::EmitterParams`]) when it is a `[[light]]` of its own (a variant of
+///   [`super::LightDesc`]); `[]` for a surface's `emitter`.
 ///
-/// Adding an emitter is its runtime file, its `[[light]]` variant (`light.rs`), one line here,
-/// the scene's construction of it (`scene_build/emitters.rs`) and the format mappings that name it.
+/// Adding an emitter is its runtime file, its parameters' file, one line here, the scene's
+/// construction of it (`scene_build/emitters.rs`) and the format mappings that name it.
 /// `$then` may be given leading tokens to carry (`$then!(tokens)`).
 macro_rules! for_each_emitter {
     ($then:ident $(($($carry:tt)*))?) => {
         $then! {
             $($($carry)*)?
-            Point { name: point, runtime: point::PointLight, light: true },
-            Spot { name: spot, runtime: spot::SpotLight, light: true },
-            Projector { name: projector, runtime: projector::Projector, light: true },
-            Directional { name: directional, runtime: directional::DirectionalLight, light: true },
-            Area { name: area, runtime: area::AreaEmitter, light: false },
-            Constant { name: constant, runtime: constant::ConstantEnvironment, light: true },
-            EnvMap { name: envmap, runtime: envmap::EnvMap, light: true },
-            SunSky { name: sunsky, runtime: sunsky::SunSky, light: true },
+            Point { name: point, runtime: point::PointLight, light: [PointDesc] },
+            Spot { name: spot, runtime: spot::SpotLight, light: [SpotDesc] },
+            Projector { name: projector, runtime: projector::Projector, light: [ProjectorDesc] },
+            Directional { name: directional, runtime: directional::DirectionalLight, light: [DirectionalDesc] },
+            Area { name: area, runtime: area::AreaEmitter, light: [] },
+            Constant { name: constant, runtime: constant::ConstantEnvironment, light: [ConstantDesc] },
+            EnvMap { name: envmap, runtime: envmap::EnvMap, light: [EnvMapDesc] },
+            SunSky { name: sunsky, runtime: sunsky::SunSky, light: [SunSkyDesc] },
         }
     };
 }
 pub(crate) use for_each_emitter;
 
 macro_rules! define_emitter_names {
-    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, light: $light:literal }),* $(,)?) => {
+    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, light: [$($Desc:ident)?] }),* $(,)?) => {
         /// Every emitter's name, in the registry's order.
         pub const EMITTER_NAMES: &[&str] = &[$(stringify!($name),)*];
 
         /// Whether `name` is an emitter of its own (`[[light]]`), rather than a surface's.
         pub fn is_light(name: &str) -> bool {
             match name {
-                $(stringify!($name) => $light,)*
+                $(stringify!($name) => !<[&str]>::is_empty(&[$(stringify!($Desc))?]),)*
                 _ => false,
             }
         }

@@ -4,6 +4,7 @@
 
 use super::texture_lookup::{Filter, Wrap};
 use super::{CameraDesc, LightDesc};
+use super::{DirectionalDesc, PointDesc, SpotDesc};
 use crate::geometry::TriangleMesh;
 use crate::math::{Aabb, Vec3};
 use glam::{Mat3, Mat4, Vec4};
@@ -345,14 +346,14 @@ pub(crate) fn unreadable_images(images: &[FileImage]) -> Vec<String> {
 pub(crate) fn transform_light(l: &mut LightDesc, m: Mat4) {
     let p = |v: &mut [f32; 3]| *v = m.transform_point3((*v).into()).into();
     match l {
-        LightDesc::Point { position, .. } => p(position),
-        LightDesc::Spot {
+        LightDesc::Point(PointDesc { position, .. }) => p(position),
+        LightDesc::Spot(SpotDesc {
             position, look_at, ..
-        } => {
+        }) => {
             p(position);
             p(look_at);
         }
-        LightDesc::Directional { direction, .. } => {
+        LightDesc::Directional(DirectionalDesc { direction, .. }) => {
             *direction = m
                 .transform_vector3((*direction).into())
                 .normalize_or_zero()

@@ -9,14 +9,15 @@ pub mod animation;
 pub mod archive_path;
 pub mod bsdf;
 pub(crate) mod bsdf_registry;
+pub mod emitter;
 mod emitter_registry;
 mod from_text;
 pub mod integrator;
 mod integrator_registry;
-mod light;
 pub mod loaded_mesh;
 mod material;
 pub mod origins;
+mod param_error;
 pub mod parse;
 mod render;
 mod shape;
@@ -25,13 +26,16 @@ pub mod texture_lookup;
 pub mod validate;
 
 pub(crate) use bsdf_registry::for_each_bsdf;
+pub use emitter::{
+    AreaEmitterDesc, ConstantDesc, DirectionalDesc, EmitterParams, EnvMapDesc, LightDesc,
+    PointDesc, ProjectorDesc, SpotDesc, SunPlaceDesc, SunSkyDesc, SunTime,
+};
 pub(crate) use emitter_registry::for_each_emitter;
 pub use emitter_registry::{is_light, light_names, EMITTER_NAMES};
 pub use from_text::{description_from_str, located, path_string};
 pub use integrator::{AovChannel, AovParams, AovType};
 pub(crate) use integrator_registry::for_each_integrator;
 pub use integrator_registry::{IntegratorName, IntegratorParams, IntegratorTable, NoParams};
-pub use light::{AreaEmitterDesc, LightDesc};
 pub use material::*;
 
 macro_rules! export_bsdf_descs {

@@ -1,6 +1,7 @@
 //! Checks that a parsed [`Description`] makes sense, before anything is built from it. Each problem is
 //! reported with the path of the offending value, which the loader turns into a line and column.
 
+use super::param_error::ParamError;
 use super::parse::PathSeg;
 use super::spectra;
 use super::{
@@ -166,216 +167,34 @@ pub fn validate(d: &Description) -> Result<(), Invalid> {
 }
 
 fn light(c: &mut Checker, l: &LightDesc) -> Check {
-    match l {
-        LightDesc::Point {
-            position,
-            color,
-            intensity,
-        } => {
-            c.finite("position", position)?;
-            c.non_negative("color", color)?;
-            c.non_negative("intensity", &[*intensity])
+    if let Err(e) = l.check() {
+        return param_failure(c, e);
+    }
+    if let Some(t) = l.transform() {
+        c.at(key("transform"), |c| transform(c, t))?;
+    }
+    Ok(())
+}
+
+/// A plugin's [`ParamError`] at its key, whose dots name nested tables.
+fn param_failure(c: &mut Checker, e: ParamError) -> Check {
+    match e.key.rsplit_once('.') {
+        Some((table, key)) => {
+            let mut segments = table
+                .split('.')
+                .map(|k| PathSeg::Key(k.into()))
+                .collect::<Vec<_>>();
+            let depth = segments.len();
+            c.path.append(&mut segments);
+            let failure = c.fail(key, e.message);
+            c.path.truncate(c.path.len() - depth);
+            failure
         }
-        LightDesc::Directional {
-            direction,
-            color,
-            intensity,
-        } => {
-            c.non_zero("direction", *direction)?;
-            c.non_negative("color", color)?;
-            c.non_negative("intensity", &[*intensity])
-        }
-        LightDesc::Spot {
-            position,
-            look_at,
-            color,
-            intensity,
-            cutoff_angle,
-            beam_width,
-            ..
-        } => {
-            c.finite("position", position)?;
-            c.finite("look_at", look_at)?;
-            if position == look_at {
-                return c.fail("look_at", "`look_at` must differ from `position`");
-            }
-            c.non_negative("color", color)?;
-            c.non_negative("intensity", &[*intensity])?;
-            if !(*cutoff_angle > 0.0 && *cutoff_angle <= 90.0) {
-                return c.fail(
-                    "cutoff_angle",
-                    format!("`cutoff_angle` must lie in (0, 90] degrees, got {cutoff_angle}"),
-                );
-            }
-            if let Some(b) = beam_width {
-                if !(*b > 0.0 && b <= cutoff_angle) {
-                    return c.fail(
-                        "beam_width",
-                        format!("`beam_width` must lie in (0, cutoff_angle], got {b}"),
-                    );
-                }
-            }
-            Ok(())
-        }
-        LightDesc::Projector {
-            position,
-            look_at,
-            scale,
-            fov,
-            ..
-        } => {
-            c.finite("position", position)?;
-            c.finite("look_at", look_at)?;
-            if position == look_at {
-                return c.fail("look_at", "`look_at` must differ from `position`");
-            }
-            c.non_negative("scale", &[*scale])?;
-            if let Some(f) = fov {
-                if !(*f > 0.0 && *f < 180.0) {
-                    return c.fail(
-                        "fov",
-                        format!("`fov` must lie in (0, 180) degrees, got {f}"),
-                    );
-                }
-            }
-            Ok(())
-        }
-        LightDesc::Constant { radiance } => c.non_negative("radiance", radiance),
-        LightDesc::Envmap {
-            file,
-            scale,
-            transform: t,
-        } => {
-            if file.is_empty() {
-                return c.fail("file", "`file` must name an image file");
-            }
-            c.non_negative("scale", &[*scale])?;
-            if let Some(t) = t {
-                c.at(key("transform"), |c| transform(c, t))?;
-            }
-            Ok(())
-        }
-        LightDesc::Sunsky {
-            sun_direction,
-            latitude,
-            longitude,
-            timezone,
-            year,
-            month,
-            day,
-            hour,
-            minute,
-            second,
-            turbidity,
-            albedo,
-            sun_scale,
-            sky_scale,
-            sun_aperture,
-            transform: t,
-            ..
-        } => {
-            let times = [
-                ("latitude", *latitude),
-                ("longitude", *longitude),
-                ("timezone", *timezone),
-                ("hour", *hour),
-                ("minute", *minute),
-                ("second", *second),
-            ];
-            let dates = [("year", *year), ("month", *month), ("day", *day)];
-            if let Some(d) = sun_direction {
-                c.finite("sun_direction", d)?;
-                if d.iter().all(|&x| x == 0.0) {
-                    return c.fail("sun_direction", "`sun_direction` must not be zero");
-                }
-                let given = times
-                    .iter()
-                    .filter(|(_, v)| v.is_some())
-                    .map(|(k, _)| *k)
-                    .chain(dates.iter().filter(|(_, v)| v.is_some()).map(|(k, _)| *k))
-                    .next();
-                if let Some(k) = given {
-                    return c.fail(
-                        k,
-                        format!("give `sun_direction` or a place and time, not both (`{k}`)"),
-                    );
-                }
-            }
-            for (k, v) in times {
-                if let Some(v) = v {
-                    if !v.is_finite() {
-                        return c.fail(k, format!("`{k}` must be finite, got {v}"));
-                    }
-                }
-            }
-            if let Some(l) = latitude {
-                if !(-90.0..=90.0).contains(l) {
-                    return c.fail(
-                        "latitude",
-                        format!("`latitude` must lie in [-90, 90], got {l}"),
-                    );
-                }
-            }
-            if let Some(m) = month {
-                if !(1..=12).contains(m) {
-                    return c.fail("month", format!("`month` must lie in [1, 12], got {m}"));
-                }
-            }
-            if let Some(d) = day {
-                if !(1..=31).contains(d) {
-                    return c.fail("day", format!("`day` must lie in [1, 31], got {d}"));
-                }
-            }
-            if !(1.0..=10.0).contains(turbidity) {
-                return c.fail(
-                    "turbidity",
-                    format!("`turbidity` must lie in [1, 10], got {turbidity}"),
-                );
-            }
-            c.non_negative("albedo", albedo)?;
-            if albedo.iter().any(|&a| a > 1.0) {
-                return c.fail(
-                    "albedo",
-                    format!("`albedo` must lie in [0, 1], got {albedo:?}"),
-                );
-            }
-            c.non_negative("sun_scale", &[*sun_scale])?;
-            c.non_negative("sky_scale", &[*sky_scale])?;
-            if !(*sun_aperture > 0.0 && *sun_aperture < 180.0) {
-                return c.fail(
-                    "sun_aperture",
-                    format!("`sun_aperture` must lie in (0, 180) degrees, got {sun_aperture}"),
-                );
-            }
-            if let Some(t) = t {
-                c.at(key("transform"), |c| transform(c, t))?;
-            }
-            Ok(())
-        }
+        None => c.fail(e.key, e.message),
     }
 }
 
 fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> Check {
-    if let MaterialDesc::Phong(w) = m {
-        c.non_negative("color", &w.color)?;
-        for (k, v) in [
-            ("ambient", w.ambient),
-            ("diffuse", w.diffuse),
-            ("specular", w.specular),
-            ("shininess", w.shininess),
-            ("reflection", w.reflection),
-            ("transmission", w.transmission),
-        ] {
-            c.non_negative(k, &[v])?;
-        }
-        c.positive("ior", w.ior)?;
-        if let Some(ch) = &w.checker {
-            c.at(key("checker"), |c| {
-                c.non_negative("color", &ch.color)?;
-                c.positive("size", ch.size)
-            })?;
-        }
-    }
     for (k, t) in m.textures() {
         texture(c, k, t)?;
     }
@@ -383,7 +202,7 @@ fn material(c: &mut Checker, d: &Description, name: &str, m: &MaterialDesc) -> C
         index_of_refraction(c, k, ior)?;
     }
     if let Err(e) = m.check_bsdf() {
-        return c.fail(e.key, e.message);
+        return param_failure(c, e);
     }
     for (k, r) in match m {
         MaterialDesc::TwoSided(t) => vec![("front", Some(&t.front)), ("back", t.back.as_ref())],

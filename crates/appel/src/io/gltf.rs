@@ -23,6 +23,7 @@ use crate::description::loaded_mesh::{
 };
 use crate::description::texture_lookup::{Filter, Wrap};
 use crate::description::{CameraDesc, CameraKind, LightDesc};
+use crate::description::{DirectionalDesc, PointDesc, SpotDesc};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};
@@ -597,22 +598,22 @@ impl Ctx<'_> {
             return;
         }
         let l = match light.kind() {
-            Kind::Directional => LightDesc::Directional {
+            Kind::Directional => LightDesc::Directional(DirectionalDesc {
                 direction: axis.into(),
                 color,
                 intensity,
-            },
-            Kind::Point => LightDesc::Point {
+            }),
+            Kind::Point => LightDesc::Point(PointDesc {
                 position: position.into(),
                 color,
                 intensity,
-            },
+            }),
             Kind::Spot {
                 inner_cone_angle,
                 outer_cone_angle,
             } => {
                 let outer = outer_cone_angle.to_degrees().clamp(0.01, 90.0);
-                LightDesc::Spot {
+                LightDesc::Spot(SpotDesc {
                     position: position.into(),
                     look_at: (position + axis).into(),
                     color,
@@ -621,7 +622,7 @@ impl Ctx<'_> {
                     beam_width: Some(inner_cone_angle.to_degrees().clamp(0.0, outer)),
                     up: None,
                     texture: None,
-                }
+                })
             }
         };
         self.out.lights.push(l);

@@ -2,12 +2,14 @@
 //! picker weighs them by power.
 
 use super::textures::TextureCache;
-use crate::description::{Description, FovAxis, LightDesc};
+use crate::description::{
+    Description, FovAxis, LightDesc, ProjectorDesc, SunPlaceDesc, SunSkyDesc,
+};
 use crate::error::{Error, Location, Result};
 use crate::scene::{Geometry, SceneEmitters, ShapeKind, NO_EMITTER};
 use crate::shading::emitter::{
     AreaEmitter, ConstantEnvironment, DirectionalLight, Emitter, EnvMap, LightPicker, PointLight,
-    Projector, ShapeSampler, SpotLight, SunPlacement, SunSky, SunSkyParams, SunTime,
+    Projector, ShapeSampler, SpotLight, SunPlacement, SunSky, SunSkyParams,
 };
 use crate::shading::texture::Texture;
 use glam::{Mat4, Vec2, Vec3};
@@ -78,142 +80,7 @@ impl SceneEmitters {
         }
         let mut infinite = Vec::new();
         for l in &d.lights {
-            let e = match l {
-                LightDesc::Point {
-                    position,
-                    color,
-                    intensity,
-                } => Emitter::Point(PointLight {
-                    position: Vec3::from(*position),
-                    intensity: Vec3::from(*color) * *intensity,
-                }),
-                LightDesc::Directional {
-                    direction,
-                    color,
-                    intensity,
-                } => Emitter::Directional(DirectionalLight::new(
-                    Vec3::from(*direction).normalize(),
-                    Vec3::from(*color) * *intensity,
-                )),
-                LightDesc::Spot {
-                    position,
-                    look_at,
-                    color,
-                    intensity,
-                    cutoff_angle,
-                    beam_width,
-                    texture,
-                    up,
-                } => Emitter::Spot(SpotLight::new(
-                    look_at_frame(*position, *look_at, *up),
-                    Vec3::from(*color) * *intensity,
-                    *cutoff_angle,
-                    beam_width.unwrap_or(0.75 * cutoff_angle),
-                    texture.as_ref().map(|t| textures.texture(t)).transpose()?,
-                )),
-                LightDesc::Projector {
-                    position,
-                    look_at,
-                    up,
-                    irradiance,
-                    scale,
-                    fov,
-                    fov_axis,
-                } => {
-                    let irradiance = textures.texture(irradiance)?;
-                    let (w, h) = match &irradiance {
-                        Texture::Bitmap(b) => (b.bitmap().width as f32, b.bitmap().height as f32),
-                        _ => (1.0, 1.0),
-                    };
-                    // Mitsuba's default lens when no field of view is given: 50 mm on 36 x 24 mm
-                    // film, across the diagonal.
-                    let (fov, axis) = match fov {
-                        Some(f) => (*f, fov_axis.unwrap_or(FovAxis::X)),
-                        None => (
-                            2.0 * (36f32.hypot(24.0) / 100.0).atan().to_degrees(),
-                            FovAxis::Diagonal,
-                        ),
-                    };
-                    let across = match axis {
-                        FovAxis::X => w,
-                        FovAxis::Y => h,
-                        FovAxis::Diagonal => w.hypot(h),
-                        FovAxis::Smaller => w.min(h),
-                        FovAxis::Larger => w.max(h),
-                    };
-                    let tan_half_x = (0.5 * fov.to_radians()).tan() * w / across;
-                    Emitter::Projector(Projector::new(
-                        look_at_frame(*position, *look_at, *up),
-                        irradiance,
-                        *scale,
-                        tan_half_x,
-                        w / h,
-                    ))
-                }
-                LightDesc::Constant { radiance } => {
-                    Emitter::Constant(ConstantEnvironment::new(Vec3::from(*radiance)))
-                }
-                LightDesc::Envmap {
-                    file,
-                    scale,
-                    transform,
-                } => {
-                    let bitmap = textures.image(file, true)?;
-                    let m = transform.as_ref().map_or(Mat4::IDENTITY, |t| t.matrix());
-                    Emitter::EnvMap(EnvMap::new(&bitmap, m, *scale).map_err(|e| {
-                        Error::input(Location::file(textures.path_of(file)), e.to_string())
-                    })?)
-                }
-                LightDesc::Sunsky {
-                    sun_direction,
-                    latitude,
-                    longitude,
-                    timezone,
-                    year,
-                    month,
-                    day,
-                    hour,
-                    minute,
-                    second,
-                    turbidity,
-                    albedo,
-                    sun_scale,
-                    sky_scale,
-                    sun_aperture,
-                    complex_sun,
-                    transform,
-                } => {
-                    // Mitsuba's defaults for the place and time: Tokyo, 2010-07-10 15:00.
-                    let sun = match sun_direction {
-                        Some(d) => SunPlacement::Direction(Vec3::from(*d)),
-                        None => SunPlacement::Time(SunTime {
-                            latitude: latitude.unwrap_or(35.6894),
-                            longitude: longitude.unwrap_or(139.6917),
-                            timezone: timezone.unwrap_or(9.0),
-                            year: year.unwrap_or(2010),
-                            month: month.unwrap_or(7),
-                            day: day.unwrap_or(10),
-                            hour: hour.unwrap_or(15.0),
-                            minute: minute.unwrap_or(0.0),
-                            second: second.unwrap_or(0.0),
-                        }),
-                    };
-                    let params = SunSkyParams {
-                        sun,
-                        turbidity: *turbidity,
-                        albedo: *albedo,
-                        sun_scale: *sun_scale,
-                        sky_scale: *sky_scale,
-                        sun_aperture: *sun_aperture,
-                        complex_sun: *complex_sun,
-                        to_world: transform.as_ref().map_or(Mat4::IDENTITY, |t| t.matrix()),
-                    };
-                    // Fails only if the bundled model data do not read.
-                    Emitter::SunSky(
-                        SunSky::new(&params).map_err(|e| Error::Invalid(format!("sunsky: {e}")))?,
-                    )
-                }
-            };
+            let e = light(l, textures)?;
             if e.is_infinite() {
                 infinite.push(emitters.len() as u32);
             }
@@ -241,6 +108,87 @@ impl SceneEmitters {
             delta,
         })
     }
+}
+
+/// The emitter of a `[[light]]`.
+fn light(l: &LightDesc, textures: &mut TextureCache) -> Result<Emitter> {
+    Ok(match l {
+        LightDesc::Point(p) => Emitter::Point(PointLight {
+            position: Vec3::from(p.position),
+            intensity: Vec3::from(p.color) * p.intensity,
+        }),
+        LightDesc::Directional(l) => Emitter::Directional(DirectionalLight::new(
+            Vec3::from(l.direction).normalize(),
+            Vec3::from(l.color) * l.intensity,
+        )),
+        LightDesc::Spot(s) => Emitter::Spot(SpotLight::new(
+            look_at_frame(s.position, s.look_at, s.up),
+            Vec3::from(s.color) * s.intensity,
+            s.cutoff_angle,
+            s.beam_width(),
+            s.texture
+                .as_ref()
+                .map(|t| textures.texture(t))
+                .transpose()?,
+        )),
+        LightDesc::Projector(p) => projector(p, textures)?,
+        LightDesc::Constant(c) => {
+            Emitter::Constant(ConstantEnvironment::new(Vec3::from(c.radiance)))
+        }
+        LightDesc::EnvMap(e) => {
+            let bitmap = textures.image(&e.file, true)?;
+            let m = e.transform.as_ref().map_or(Mat4::IDENTITY, |t| t.matrix());
+            Emitter::EnvMap(EnvMap::new(&bitmap, m, e.scale).map_err(|err| {
+                Error::input(Location::file(textures.path_of(&e.file)), err.to_string())
+            })?)
+        }
+        LightDesc::SunSky(s) => sunsky(s)?,
+    })
+}
+
+fn projector(p: &ProjectorDesc, textures: &mut TextureCache) -> Result<Emitter> {
+    let irradiance = textures.texture(&p.irradiance)?;
+    let (w, h) = match &irradiance {
+        Texture::Bitmap(b) => (b.bitmap().width as f32, b.bitmap().height as f32),
+        _ => (1.0, 1.0),
+    };
+    let (fov, axis) = p.field_of_view();
+    let across = match axis {
+        FovAxis::X => w,
+        FovAxis::Y => h,
+        FovAxis::Diagonal => w.hypot(h),
+        FovAxis::Smaller => w.min(h),
+        FovAxis::Larger => w.max(h),
+    };
+    let tan_half_x = (0.5 * fov.to_radians()).tan() * w / across;
+    Ok(Emitter::Projector(Projector::new(
+        look_at_frame(p.position, p.look_at, p.up),
+        irradiance,
+        p.scale,
+        tan_half_x,
+        w / h,
+    )))
+}
+
+fn sunsky(s: &SunSkyDesc) -> Result<Emitter> {
+    let sun = match s.sun() {
+        SunPlaceDesc::Direction(d) => SunPlacement::Direction(Vec3::from(d)),
+        SunPlaceDesc::Time(t) => SunPlacement::Time(t),
+    };
+    let params = SunSkyParams {
+        sun,
+        turbidity: s.turbidity,
+        albedo: s.albedo,
+        sun_scale: s.sun_scale,
+        sky_scale: s.sky_scale,
+        sun_aperture: s.sun_aperture,
+        complex_sun: s.complex_sun,
+        to_world: s.transform.as_ref().map_or(Mat4::IDENTITY, |t| t.matrix()),
+    };
+    // Fails only if the bundled model data do not read.
+    Ok(Emitter::SunSky(
+        SunSky::new(&params).map_err(|e| Error::Invalid(format!("sunsky: {e}")))?,
+    ))
 }
 
 /// Mitsuba's `lookat` frame for a light at `position` looking down its local +z toward `look_at`:

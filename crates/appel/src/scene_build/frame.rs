@@ -2,6 +2,7 @@
 //! show the model whole.
 
 use crate::description::{CameraDesc, Description, LightDesc, MeshShapeDesc, ShapeDesc};
+use crate::description::{ConstantDesc, DirectionalDesc, PointDesc};
 use crate::math::{Aabb, Vec3};
 
 /// The direction from the model's centre to the camera: a diagonal from the front right, above.
@@ -60,18 +61,18 @@ pub fn frame_model(base: &Description, bounds: Aabb) -> Description {
     let light_pos = eye + (0.3 * up - 0.3 * right) * distance;
     let light_distance = (light_pos - center).length();
     d.lights = vec![
-        LightDesc::Point {
+        LightDesc::Point(PointDesc {
             position: light_pos.into(),
             color: [1.0; 3],
             // Irradiance 0.55 at the model's centre: lit faces of an albedo-0.8 surface come out at
             // about 0.5 linear, mid-grey in sRGB, leaving room for the highlights of brighter albedos.
             intensity: 0.55 * light_distance * light_distance,
-        },
-        LightDesc::Directional {
+        }),
+        LightDesc::Directional(DirectionalDesc {
             direction: [-0.3, -1.0, -0.2],
             color: [1.0; 3],
             intensity: 0.15,
-        },
+        }),
     ];
     d.environment.background = [0.15, 0.15, 0.17];
     d
@@ -111,9 +112,9 @@ pub fn view_model(
     if !files.lights.is_empty() {
         framed.lights = files.lights.clone();
     } else if files.physically_based {
-        framed.lights.push(LightDesc::Constant {
+        framed.lights.push(LightDesc::Constant(ConstantDesc {
             radiance: [MODEL_SKY; 3],
-        });
+        }));
     }
     let count = files.cameras.len();
     let chosen = match (camera, count) {

@@ -3,6 +3,8 @@
 //! beyond "each texture and index of refraction makes sense".
 
 use super::bsdf_registry::{for_each_bsdf, same_name_ignoring_case};
+pub(crate) use super::param_error::non_negative;
+pub use super::param_error::ParamError;
 use super::{IorDesc, TextureDesc};
 use serde::{Deserialize, Serialize};
 
@@ -25,22 +27,6 @@ pub trait BsdfParams {
     }
 }
 
-/// A parameter that makes no sense: its key (the loader turns it into a line) and why.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ParamError {
-    pub key: &'static str,
-    pub message: String,
-}
-
-impl ParamError {
-    pub fn new(key: &'static str, message: impl Into<String>) -> Self {
-        ParamError {
-            key,
-            message: message.into(),
-        }
-    }
-}
-
 macro_rules! define_bsdf_descs {
     ($($(#[$attr:meta])* $Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
         $(pub mod $module;)*
@@ -55,23 +41,6 @@ macro_rules! define_bsdf_descs {
 }
 for_each_bsdf!(define_bsdf_descs);
 pub use coateddiffuse::{LayerDesc, MAX_LAYER_DEPTH, MAX_LAYER_SAMPLES};
-
-/// Checks that `v` is finite and not negative.
-pub(crate) fn non_negative(key: &'static str, v: &[f32]) -> Result<(), ParamError> {
-    if v.iter().any(|x| !x.is_finite()) {
-        return Err(ParamError::new(
-            key,
-            format!("`{key}` must be finite, got {v:?}"),
-        ));
-    }
-    if v.iter().any(|&x| x < 0.0) {
-        return Err(ParamError::new(
-            key,
-            format!("`{key}` must not be negative, got {v:?}"),
-        ));
-    }
-    Ok(())
-}
 
 /// The microfacet normal distribution.
 #[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]

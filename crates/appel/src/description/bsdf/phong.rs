@@ -3,6 +3,7 @@
 //! `shading::bsdf::phong`.
 
 use super::BsdfParams;
+use crate::description::param_error::{non_negative, positive, ParamError};
 use crate::description::{TextureDesc, Vec3f};
 use serde::{Deserialize, Serialize};
 
@@ -60,6 +61,26 @@ impl BsdfParams for PhongDesc {
     /// Its colour is a plain colour or Whitted's own checkerboard, not a texture.
     fn textures(&self) -> Vec<(&'static str, &TextureDesc)> {
         Vec::new()
+    }
+
+    fn check(&self) -> Result<(), ParamError> {
+        non_negative("color", &self.color)?;
+        for (k, v) in [
+            ("ambient", self.ambient),
+            ("diffuse", self.diffuse),
+            ("specular", self.specular),
+            ("shininess", self.shininess),
+            ("reflection", self.reflection),
+            ("transmission", self.transmission),
+        ] {
+            non_negative(k, &[v])?;
+        }
+        positive("ior", self.ior)?;
+        if let Some(ch) = &self.checker {
+            non_negative("checker.color", &ch.color)?;
+            positive("checker.size", ch.size)?;
+        }
+        Ok(())
     }
 }
 

@@ -8,6 +8,7 @@ use super::params::{ParamSet, ParamType};
 use super::parser::Directive;
 use super::spectrum::{rgb_of, Use};
 use crate::description::LightDesc;
+use crate::description::{ConstantDesc, DirectionalDesc, PointDesc, SpotDesc};
 use crate::error::Result;
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -42,11 +43,11 @@ impl Converter {
                     i = i.map(|c| c * phi / (4.0 * PI));
                 }
                 let (color, intensity) = color_and_scale(i);
-                LightDesc::Point {
+                LightDesc::Point(PointDesc {
                     position: f32s(m.transform_point3(point("from", DVec3::ZERO)?)),
                     color,
                     intensity,
-                }
+                })
             }
             "spot" => {
                 let cone = p.float_or("coneangle", 30.0)?;
@@ -70,7 +71,7 @@ impl Converter {
                 if from == to {
                     return Err(d.loc.error("a spot's \"from\" and \"to\" coincide"));
                 }
-                LightDesc::Spot {
+                LightDesc::Spot(SpotDesc {
                     position: f32s(m.transform_point3(from)),
                     look_at: f32s(m.transform_point3(to)),
                     color,
@@ -79,7 +80,7 @@ impl Converter {
                     beam_width: Some((cone - delta) as f32),
                     up: None,
                     texture: None,
-                }
+                })
             }
             "distant" => {
                 if power.is_some() {
@@ -98,11 +99,11 @@ impl Converter {
                         .loc
                         .error("a distant light's \"from\" and \"to\" coincide"));
                 }
-                LightDesc::Directional {
+                LightDesc::Directional(DirectionalDesc {
                     direction: f32s(dir.normalize()),
                     color,
                     intensity,
-                }
+                })
             }
             "infinite" => {
                 if let Some(q) = p.string("filename")?.map(|f| f.to_string()) {
@@ -130,9 +131,9 @@ impl Converter {
                     ));
                 }
                 let l = self.emission(p, "L")?;
-                LightDesc::Constant {
+                LightDesc::Constant(ConstantDesc {
                     radiance: l.map(|c| c as f32),
-                }
+                })
             }
             other => {
                 return Err(d.loc.error(format!(

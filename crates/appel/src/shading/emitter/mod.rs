@@ -117,7 +117,7 @@ pub trait EmitterPlugin: Clone + std::fmt::Debug {
 
 /// The items of `shading::emitter` generated from the emitter list.
 macro_rules! define_emitters {
-    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, light: $light:literal }),* $(,)?) => {
+    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, light: [$($Desc:ident)?] }),* $(,)?) => {
         $(mod $module;)*
         $(pub use $module::$Type;)*
 

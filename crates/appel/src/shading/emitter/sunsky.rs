@@ -37,6 +37,7 @@
 
 use super::distribution::Distribution2D;
 use super::EmitterSample;
+pub use crate::description::SunTime;
 use crate::shading::texture::luminance;
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::f64::consts::PI as PI64;
@@ -260,23 +261,6 @@ pub enum SunPlacement {
     Direction(Vec3),
     /// Computed from a place and a time.
     Time(SunTime),
-}
-
-/// A place and a local time (Mitsuba's `sunsky` location and date parameters).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SunTime {
-    /// Degrees north.
-    pub latitude: f64,
-    /// Degrees east.
-    pub longitude: f64,
-    /// Hours ahead of UTC.
-    pub timezone: f64,
-    pub year: i64,
-    pub month: i64,
-    pub day: i64,
-    pub hour: f64,
-    pub minute: f64,
-    pub second: f64,
 }
 
 impl SunTime {

@@ -9,6 +9,9 @@ use super::origin::origin_of;
 use super::{columns, f32s, fov_axis, rows_f32, Converter};
 use crate::description::origins::key_path;
 use crate::description::{AreaEmitterDesc, LightDesc, TextureDesc, TransformDesc};
+use crate::description::{
+    ConstantDesc, DirectionalDesc, EnvMapDesc, PointDesc, ProjectorDesc, SpotDesc, SunSkyDesc,
+};
 use crate::error::Result;
 use glam::DVec3;
 
@@ -28,17 +31,17 @@ impl Converter<'_> {
                     (None, Some(m)) => columns(&m).0,
                     (None, None) => DVec3::ZERO,
                 };
-                LightDesc::Point {
+                LightDesc::Point(PointDesc {
                     position: f32s(position),
                     color: color("intensity")?,
                     intensity: 1.0,
-                }
+                })
             }
             "spot" => {
                 let (origin, _, y, z) = columns(&to_world.unwrap_or_default());
                 let z = if to_world.is_some() { z } else { DVec3::Z };
                 let cutoff = e.float_or("cutoff_angle", 20.0)?;
-                LightDesc::Spot {
+                LightDesc::Spot(SpotDesc {
                     position: f32s(origin),
                     look_at: f32s(origin + z.normalize()),
                     color: color("intensity")?,
@@ -47,7 +50,7 @@ impl Converter<'_> {
                     beam_width: e.float("beam_width")?.map(|b| b as f32),
                     texture: texture(self, e, "texture", SpectrumUse::Emission)?,
                     up: to_world.map(|_| f32s(y)),
-                }
+                })
             }
             "projector" => {
                 let m = to_world.unwrap_or_default();
@@ -73,7 +76,7 @@ impl Converter<'_> {
                         ))
                     })?),
                 };
-                LightDesc::Projector {
+                LightDesc::Projector(ProjectorDesc {
                     position: f32s(origin),
                     look_at: f32s(origin + z.normalize()),
                     up: Some(f32s(y)),
@@ -82,7 +85,7 @@ impl Converter<'_> {
                     scale: e.float_or("scale", 1.0)? as f32,
                     fov: fov.map(|f| f as f32),
                     fov_axis,
-                }
+                })
             }
             "directional" => {
                 let direction = match (e.vector("direction")?, to_world) {
@@ -96,91 +99,43 @@ impl Converter<'_> {
                 if direction.length() == 0.0 {
                     return Err(e.error("the direction is zero"));
                 }
-                LightDesc::Directional {
+                LightDesc::Directional(DirectionalDesc {
                     direction: f32s(direction),
                     color: color("irradiance")?,
                     intensity: 1.0,
-                }
+                })
             }
-            "constant" => LightDesc::Constant {
+            "constant" => LightDesc::Constant(ConstantDesc {
                 radiance: color("radiance")?,
-            },
-            "envmap" => LightDesc::Envmap {
+            }),
+            "envmap" => LightDesc::EnvMap(EnvMapDesc {
                 file: self.file(e, "filename")?,
                 scale: e.float_or("scale", 1.0)? as f32,
                 transform: to_world.map(|m| TransformDesc {
                     matrix: Some(rows_f32(&m)),
                     ..TransformDesc::default()
                 }),
-            },
+            }),
             "sunsky" => {
                 let sun_direction = e.vector("sun_direction")?;
                 let float = |name: &str| e.float(name);
                 let (latitude, longitude, timezone) =
                     (float("latitude")?, float("longitude")?, float("timezone")?);
                 let (hour, minute, second) = (float("hour")?, float("minute")?, float("second")?);
-                let (year, month, day) = (
-                    e.int("year")?,
-                    e.int_in("month", 1..=12)?,
-                    e.int_in("day", 1..=31)?,
+                let (year, month, day) = (e.int("year")?, e.int("month")?, e.int("day")?);
+                // Ranges and contradictions are the plugin's checks, which validation reports
+                // at the property's line.
+                let float_or =
+                    |name: &str, default: f64| e.float_or(name, default).map(|v| v as f32);
+                let (turbidity, sun_scale) =
+                    (float_or("turbidity", 3.0)?, float_or("sun_scale", 1.0)?);
+                let (sky_scale, sun_aperture) = (
+                    float_or("sky_scale", 1.0)?,
+                    float_or("sun_aperture", 0.5358)?,
                 );
-                if sun_direction.is_some() {
-                    let timed = [
-                        "latitude",
-                        "longitude",
-                        "timezone",
-                        "year",
-                        "month",
-                        "day",
-                        "hour",
-                        "minute",
-                        "second",
-                    ];
-                    if let Some(p) = timed.iter().find_map(|n| e.prop(n)) {
-                        return Err(p.error(format!(
-                            "\"{}\" cannot be given with \"sun_direction\" (the sun is placed by \
-                             one or the other)",
-                            p.name
-                        )));
-                    }
-                    if sun_direction.is_some_and(|d| d == [0.0; 3]) {
-                        let p = e.prop("sun_direction").expect("read above");
-                        return Err(p.error("the sun's direction is zero"));
-                    }
-                }
-                let ranged = |name: &str, default: f64, ok: &dyn Fn(f64) -> bool, what: &str| {
-                    let v = e.float_or(name, default)?;
-                    if !ok(v) {
-                        let p = e.prop(name).expect("a default is in range");
-                        return Err(p.error(format!("\"{name}\" must {what}, got {v}")));
-                    }
-                    Ok(v as f32)
-                };
-                let turbidity = ranged(
-                    "turbidity",
-                    3.0,
-                    &|t| (1.0..=10.0).contains(&t),
-                    "lie in [1, 10]",
-                )?;
-                let sun_scale = ranged("sun_scale", 1.0, &|s| s >= 0.0, "not be negative")?;
-                let sky_scale = ranged("sky_scale", 1.0, &|s| s >= 0.0, "not be negative")?;
-                let sun_aperture = ranged(
-                    "sun_aperture",
-                    0.5358,
-                    &|a| a > 0.0 && a < 180.0,
-                    "lie in (0, 180) degrees",
-                )?;
                 let albedo =
                     constant_color(self, e, "albedo", SpectrumUse::Emission)?.unwrap_or([0.3; 3]);
-                if albedo.iter().any(|a| !(0.0..=1.0).contains(a)) {
-                    let message =
-                        format!("\"albedo\" must lie in [0, 1] in every channel, got {albedo:?}");
-                    return Err(match e.prop("albedo") {
-                        Some(p) => p.error(message),
-                        None => e.error(message),
-                    });
-                }
-                LightDesc::Sunsky {
+                LightDesc::SunSky(SunSkyDesc {
                     sun_direction: sun_direction.map(|d| f32s(DVec3::from(d))),
                     latitude,
                     longitude,
@@ -201,7 +156,7 @@ impl Converter<'_> {
                         matrix: Some(rows_f32(&m)),
                         ..TransformDesc::default()
                     }),
-                }
+                })
             }
             "area" => return Err(e.error("an area emitter belongs inside a <shape>")),
             p => {

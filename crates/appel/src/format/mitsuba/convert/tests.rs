@@ -7,6 +7,7 @@
 use super::super::{document_from_str, load_xml, XmlOptions};
 use crate::description::validate;
 use crate::description::*;
+use crate::description::{ConstantDesc, DirectionalDesc, EnvMapDesc, PointDesc};
 use std::path::{Path, PathBuf};
 
 fn shared(rel: &str) -> PathBuf {
@@ -223,11 +224,11 @@ fn floating_sphere_and_mirrors() {
     assert_eq!((d.render.spp, d.camera.width), (32, 48));
     assert_eq!(
         d.lights,
-        vec![LightDesc::Directional {
+        vec![LightDesc::Directional(DirectionalDesc {
             direction: [0.0, 0.0, -1.0],
             color: [1.0; 3],
             intensity: 1.0
-        }]
+        })]
     );
     let ShapeDesc::Mesh(sphere) = &d.shapes[1] else {
         panic!("{:?}", d.shapes[1])
@@ -247,7 +248,7 @@ fn floating_sphere_and_mirrors() {
         panic!()
     };
     assert_eq!((c.eta, c.k), (Some([0.789; 3]), Some([6.15; 3])));
-    let LightDesc::Envmap { file, scale, .. } = &d.lights[0] else {
+    let LightDesc::EnvMap(EnvMapDesc { file, scale, .. }) = &d.lights[0] else {
         panic!("{:?}", d.lights)
     };
     assert!(
@@ -287,11 +288,11 @@ fn instancing() {
     assert!(close(&m[2], &[-h, 0.0, h, 2.0], 1e-5), "{m:?}");
     assert_eq!(
         d.lights[0],
-        LightDesc::Point {
+        LightDesc::Point(PointDesc {
             position: [-5.0, -6.0, 0.0],
             color: [300.0; 3],
             intensity: 1.0
-        }
+        })
     );
 }
 
@@ -434,6 +435,43 @@ fn malformed_scenes_fail_at_their_line() {
     );
 }
 
+/// An emitter's parameters are checked by its plugin's own rules, in the XML as in TOML, each
+/// reported at the property's line.
+#[test]
+fn emitter_parameters_fail_at_their_property() {
+    let e = load_err(&format!(
+        "<scene version=\"3.0.0\">{CAMERA}\n<emitter type=\"sunsky\">\n\
+         <float name=\"turbidity\" value=\"11\"/></emitter></scene>"
+    ));
+    assert!(
+        e.starts_with("scene.xml:3:1: ") && e.contains("`turbidity` must lie in [1, 10], got 11"),
+        "{e}"
+    );
+    let e = load_err(&format!(
+        "<scene version=\"3.0.0\">{CAMERA}\n<emitter type=\"sunsky\">\n\
+         <vector name=\"sun_direction\" x=\"0\" y=\"1\" z=\"0\"/>\n\
+         <float name=\"hour\" value=\"12\"/></emitter></scene>"
+    ));
+    assert!(
+        e.starts_with("scene.xml:4:1: ") && e.contains("not both (`hour`)"),
+        "{e}"
+    );
+    let toml_error = crate::description::description_from_str(
+        "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n\n\
+         [[light]]\ntype = \"spot\"\nposition = [0, 1, 0]\nlook_at = [0, 0, 0]\n\
+         cutoff_angle = 95\n",
+        crate::description::parse::Syntax::Toml,
+        Path::new("scene.toml"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        toml_error.starts_with("scene.toml:9:")
+            && toml_error.contains("`cutoff_angle` must lie in (0, 90]"),
+        "{toml_error}"
+    );
+}
+
 #[test]
 fn a_missing_include_names_the_file_and_line() {
     let dir = tempfile::tempdir().unwrap();
@@ -481,7 +519,7 @@ fn defaults_of_a_minimal_scene_are_mitsubas() {
     };
     assert_eq!((sphere.center, sphere.radius), ([0.0; 3], 1.0));
     // A uniform spectrum inside an emitter: Mitsuba 3.9.1 gives 2 x (1.2048, 0.9483, 0.9089).
-    let LightDesc::Constant { radiance } = d.lights[0] else {
+    let LightDesc::Constant(ConstantDesc { radiance }) = d.lights[0] else {
         panic!()
     };
     assert!(
