@@ -147,4 +147,26 @@ reflection = 0.5
             assert_eq!(d.materials[name], expected, "{name}");
         }
     }
+
+    /// Its checks report at the value's line, inside the checkerboard's table too.
+    #[test]
+    fn bad_values_fail_at_their_line() {
+        let scene = |material: &str| {
+            format!("[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n\n[materials.m]\n{material}")
+        };
+        let err = |material: &str| {
+            description_from_str(&scene(material), Syntax::Toml, Path::new("t.toml"))
+                .unwrap_err()
+                .to_string()
+        };
+        let e = err("type = \"phong\"\nshininess = -1\n");
+        assert!(e.starts_with("t.toml:7:") && e.contains("`shininess` must not be negative"), "{e}");
+        let e = err("ior = 0\n");
+        assert!(e.starts_with("t.toml:6:") && e.contains("`ior` must be a positive number"), "{e}");
+        let e = err("[materials.m.checker]\ncolor = [0, 0, 0]\nsize = -2\n");
+        assert!(
+            e.starts_with("t.toml:8:") && e.contains("`checker.size` must be a positive number"),
+            "{e}"
+        );
+    }
 }
