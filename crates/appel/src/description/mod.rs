@@ -8,6 +8,7 @@
 pub mod animation;
 pub mod archive_path;
 pub mod bsdf;
+pub mod framing;
 pub(crate) mod bsdf_registry;
 mod emitter_registry;
 mod from_text;
