@@ -68,8 +68,14 @@ type External<'a> = &'a dyn Fn(&str) -> std::result::Result<Vec<u8>, String>;
 /// `gltf` crate would otherwise panic on. Buffers and images are not read.
 pub fn read_document(data: &[u8], path: &Path) -> Result<Gltf> {
     let err = |msg: String| Error::input(Location::file(path), msg);
-    let raw =
-        Gltf::from_slice_without_validation(data).map_err(|e| err(format!("invalid glTF: {e}")))?;
+    // A JSON syntax or schema error is placed at its line (of the `.glb`'s JSON chunk).
+    let raw = Gltf::from_slice_without_validation(data).map_err(|e| match &e {
+        ::gltf::Error::Deserialize(json) if json.line() > 0 => Error::input(
+            Location::line(path, json.line(), Some(json.column())),
+            format!("invalid glTF: {e}"),
+        ),
+        _ => err(format!("invalid glTF: {e}")),
+    })?;
     // gltf-json 1.4's validation indexes `accessors[POSITION]` without a bounds check (found by
     // fuzzing): check that reference before letting it validate the rest.
     let json = raw.document.as_json();
