@@ -212,12 +212,7 @@ fn read_scene_or_model(
     let loaded = crate::format::load(path, params)?;
     Ok(ResolvedScene {
         cameras: loaded.cameras,
-        ..resolved(
-            loaded.description,
-            loaded.base_dir,
-            loaded.warnings,
-            false,
-        )
+        ..resolved(loaded.description, loaded.base_dir, loaded.warnings, false)
     })
 }
 

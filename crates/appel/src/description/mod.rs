@@ -8,9 +8,9 @@
 pub mod animation;
 pub mod archive_path;
 pub mod bsdf;
-pub mod framing;
 pub(crate) mod bsdf_registry;
 mod emitter_registry;
+pub mod framing;
 mod from_text;
 pub mod integrator;
 mod integrator_registry;

@@ -68,9 +68,10 @@ type External<'a> = &'a dyn Fn(&str) -> std::result::Result<Vec<u8>, String>;
 /// `gltf` crate would otherwise panic on. Buffers and images are not read.
 pub fn read_document(data: &[u8], path: &Path) -> Result<Gltf> {
     let err = |msg: String| Error::input(Location::file(path), msg);
-    // A JSON syntax or schema error is placed at its line (of the `.glb`'s JSON chunk).
+    // Problems of a `.gltf` (text, not a `.glb`'s binary container) are placed at their line.
+    let text = !data.starts_with(b"glTF");
     let raw = Gltf::from_slice_without_validation(data).map_err(|e| match &e {
-        ::gltf::Error::Deserialize(json) if json.line() > 0 => Error::input(
+        ::gltf::Error::Deserialize(json) if text && json.line() > 0 => Error::input(
             Location::line(path, json.line(), Some(json.column())),
             format!("invalid glTF: {e}"),
         ),
@@ -121,8 +122,25 @@ pub fn read_document(data: &[u8], path: &Path) -> Result<Gltf> {
         }
     }
     Ok(Gltf {
-        document: ::gltf::Document::from_json(raw.document.into_json())
-            .map_err(|e| err(format!("invalid glTF: {e}")))?,
+        document: ::gltf::Document::from_json(raw.document.into_json()).map_err(|e| match e {
+            ::gltf::Error::Validation(problems) => {
+                let line = problems.first().and_then(|(at, _)| {
+                    let json = std::str::from_utf8(data).ok().filter(|_| text)?;
+                    super::json_path::line_of(json, &at.to_string())
+                });
+                let message = problems
+                    .iter()
+                    .map(|(at, problem)| format!("`{at}`: {}", problem.to_string().to_lowercase()))
+                    .collect::<Vec<_>>()
+                    .join("; ");
+                let location = match line {
+                    Some(line) => Location::line(path, line, None),
+                    None => Location::file(path),
+                };
+                Error::input(location, format!("invalid glTF: {message}"))
+            }
+            e => err(format!("invalid glTF: {e}")),
+        })?,
         blob: raw.blob,
     })
 }
@@ -211,7 +229,10 @@ fn parse(
 /// The nodes a file's scene starts from: the default scene's (glTF 2.0 section 3.5.4: `scene`),
 /// else the first scene's, else, for a file without scenes, every node that is no node's child.
 pub fn scene_roots(document: &::gltf::Document) -> Vec<Node<'_>> {
-    match document.default_scene().or_else(|| document.scenes().next()) {
+    match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
         Some(scene) => scene.nodes().collect(),
         None => {
             let children: std::collections::HashSet<usize> = document
@@ -820,9 +841,9 @@ impl Ctx<'_> {
 /// A glTF camera placed by `node` at `world`: it looks along the node's -z with +y up (glTF 2.0
 /// section 3.10.1), or a warning saying why it cannot be used (a degenerate transform).
 pub fn file_camera(
-camera: &::gltf::Camera,
-world: Mat4,
-node: &Node,
+    camera: &::gltf::Camera,
+    world: Mat4,
+    node: &Node,
 ) -> std::result::Result<FileCamera, String> {
     use ::gltf::camera::Projection;
     let eye = world.transform_point3(GVec3::ZERO);

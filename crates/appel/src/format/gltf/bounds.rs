@@ -51,7 +51,12 @@ pub fn mesh_extent(placed: &[Placed]) -> MeshExtent {
 /// Three finite numbers.
 fn vec3(v: ::gltf::json::Value) -> Option<Vec3> {
     let a = v.as_array()?;
-    let x = |i: usize| a.get(i)?.as_f64().map(|x| x as f32).filter(|x| x.is_finite());
+    let x = |i: usize| {
+        a.get(i)?
+            .as_f64()
+            .map(|x| x as f32)
+            .filter(|x| x.is_finite())
+    };
     (a.len() == 3).then_some(())?;
     Some(Vec3::new(x(0)?, x(1)?, x(2)?))
 }

@@ -59,7 +59,13 @@ fn placed_light(light: &Light, world: Mat4) -> Option<LightDesc> {
 /// inside `innerConeAngle`, none outside `outerConeAngle` (defaults 0 and pi/4), falling in
 /// between linearly in angle (Appel's spot), where the extension suggests a smooth falloff in
 /// the cosine: the cone's edges are the same, the transition's profile differs slightly.
-fn light_desc(kind: Kind, position: Vec3, axis: Vec3, color: [f32; 3], intensity: f32) -> LightDesc {
+fn light_desc(
+    kind: Kind,
+    position: Vec3,
+    axis: Vec3,
+    color: [f32; 3],
+    intensity: f32,
+) -> LightDesc {
     match kind {
         Kind::Directional => LightDesc::Directional {
             direction: axis.into(),

@@ -39,7 +39,10 @@ impl SceneFormat for GltfFormat {
     fn load(&self, path: &Path, _options: &FormatOptions) -> Result<LoadedDescription> {
         let bytes = read_bytes(path)?;
         let gltf = crate::io::gltf::read_document(&bytes, path)?;
-        let placed = nodes::placed_nodes(&gltf.document, path)?;
+        let text = (!bytes.starts_with(b"glTF"))
+            .then(|| std::str::from_utf8(&bytes).ok())
+            .flatten();
+        let placed = nodes::placed_nodes(&gltf.document, path, text)?;
         let mut warnings = vec![];
         let file_cameras = cameras::cameras(&placed, path, &mut warnings);
         let file_lights = lights::lights(&placed, path, &mut warnings);

@@ -20,9 +20,15 @@ pub struct Placed<'a> {
 /// transform: its local transform (`matrix`, or `translation * rotation * scale`) after its
 /// parent's (glTF 2.0 section 3.5.3). A node that is its own ancestor is an error: the hierarchy
 /// must be a set of disjoint trees, and the `gltf` crate's validation does not check it.
-pub fn placed_nodes<'a>(document: &'a Document, path: &Path) -> Result<Vec<Placed<'a>>> {
+/// `text` is the file's JSON (of a `.gltf`), to place a cycle at its line.
+pub fn placed_nodes<'a>(
+    document: &'a Document,
+    path: &Path,
+    text: Option<&str>,
+) -> Result<Vec<Placed<'a>>> {
     let mut walk = Walk {
         path,
+        text,
         on_path: vec![false; document.nodes().len()],
         ancestors: vec![],
         out: vec![],
@@ -35,6 +41,7 @@ pub fn placed_nodes<'a>(document: &'a Document, path: &Path) -> Result<Vec<Place
 
 struct Walk<'a, 'p> {
     path: &'p Path,
+    text: Option<&'p str>,
     /// Whether each node is on the path from the root to the node being walked.
     on_path: Vec<bool>,
     ancestors: Vec<usize>,
@@ -42,8 +49,16 @@ struct Walk<'a, 'p> {
 }
 
 impl<'a> Walk<'a, '_> {
-    fn err(&self, message: String) -> Error {
-        Error::input(Location::file(self.path), message)
+    /// An error at the file, or at the line of `json_path` in it.
+    fn err(&self, json_path: &str, message: String) -> Error {
+        let line = self
+            .text
+            .and_then(|t| crate::io::json_path::line_of(t, json_path));
+        let at = match line {
+            Some(line) => Location::line(self.path, line, None),
+            None => Location::file(self.path),
+        };
+        Error::input(at, message)
     }
 
     fn node(&mut self, node: Node<'a>, parent: Mat4) -> Result<()> {
@@ -56,19 +71,27 @@ impl<'a> Walk<'a, '_> {
                 .chain(std::iter::once(&i))
                 .map(usize::to_string)
                 .collect();
-            return Err(self.err(format!(
-                "node {i} is its own ancestor (nodes {}): a node hierarchy must be a tree",
-                chain.join(" -> ")
-            )));
+            let parent = self.ancestors.last().copied().unwrap_or(i);
+            return Err(self.err(
+                &format!("nodes[{parent}].children"),
+                format!(
+                    "node {i} is its own ancestor (nodes {}): a node hierarchy must be a tree",
+                    chain.join(" -> ")
+                ),
+            ));
         }
         if self.ancestors.len() >= MAX_DEPTH {
-            return Err(self.err(format!(
-                "node {i}: the node hierarchy is deeper than {MAX_DEPTH} levels"
-            )));
+            return Err(self.err(
+                &format!("nodes[{i}]"),
+                format!("node {i}: the node hierarchy is deeper than {MAX_DEPTH} levels"),
+            ));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if !world.is_finite() {
-            return Err(self.err(format!("node {i}: its transform is not finite")));
+            return Err(self.err(
+                &format!("nodes[{i}]"),
+                format!("node {i}: its transform is not finite"),
+            ));
         }
         self.on_path[i] = true;
         self.ancestors.push(i);
