@@ -1141,6 +1141,6 @@ fn a_gltf_file_renders_as_a_scene() {
     assert_rejected(
         "bad.gltf",
         &GLTF_SCENE.replace(r#"{"mesh": 0}, {"camera""#, r#"{"mesh": 4}, {"camera""#),
-        &["bad.gltf:11: invalid glTF: `nodes[0].mesh`: index out of bounds"],
+        &["bad.gltf:10: invalid glTF: `nodes[0].mesh`: index out of bounds"],
     );
 }
