@@ -61,7 +61,7 @@ impl MeshData {
         for i in &self.indices {
             bytes.extend_from_slice(&i.to_le_bytes());
         }
-        while bytes.len() % 4 != 0 {
+        while !bytes.len().is_multiple_of(4) {
             bytes.push(0);
         }
         let (lo, hi) = self
