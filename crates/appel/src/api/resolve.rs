@@ -141,9 +141,11 @@ fn check(d: &Description, names: RequestNames) -> Result<()> {
         .map_err(|e| Error::Invalid(format!("after {}: {}", names.overrides, e.message)))
 }
 
-/// Whether `name` is a mesh file Appel reads (or an archive holding one), to be framed.
+/// Whether `name` is a mesh file Appel reads (or an archive holding one), to be framed: not one
+/// a scene format reads (a glTF file is a scene).
 pub fn is_model(name: &str) -> bool {
-    is_mesh_file(Path::new(name))
+    let path = Path::new(name);
+    is_mesh_file(path) && crate::format::find(path).is_none()
 }
 
 /// A scene file, a mesh file (framed later, once its bounds are known), or a built-in scene.
@@ -181,7 +183,7 @@ fn read_scene_or_model(
         parse_time: Duration::ZERO,
     };
     let format = crate::format::find(path);
-    if is_mesh_file(path) && format.is_none() {
+    if is_model(name) {
         let (file, base_dir) = model_file(name)?;
         return Ok(resolved(
             model_description(&file),
