@@ -1108,3 +1108,39 @@ fn a_closed_stdout_ends_appel_without_a_panic() {
         out.status
     );
 }
+
+/// A triangle (data URI) seen by one camera: `appel render x.gltf` reads it as a scene.
+const GLTF_SCENE: &str = r#"{
+  "asset": {"version": "2.0"},
+  "buffers": [{"uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA", "byteLength": 36}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+  "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 1.5, "znear": 0.01}}],
+  "scene": 0,
+  "scenes": [{"nodes": [0, 1]}],
+  "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.3, 0.3, 2]}]
+}
+"#;
+
+#[test]
+fn a_gltf_file_renders_as_a_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tri.gltf"), GLTF_SCENE).unwrap();
+    let out = appel(
+        &[
+            "render", "tri.gltf", "-o", "tri.png", "--size", "12x8", "--spp", "1",
+        ],
+        dir.path(),
+    );
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("tri.gltf: the file has no lights"), "{err}");
+    assert!(dir.path().join("tri.png").is_file());
+    // A reference out of range is an error at its line.
+    assert_rejected(
+        "bad.gltf",
+        &GLTF_SCENE.replace(r#"{"mesh": 0}, {"camera""#, r#"{"mesh": 4}, {"camera""#),
+        &["bad.gltf:10: invalid glTF: `nodes[0].mesh`: index out of bounds"],
+    );
+}

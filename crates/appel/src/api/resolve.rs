@@ -1,13 +1,16 @@
 //! From a scene's name to a built scene, the one way every front end takes: the command line
 //! (`appel render`, `bench`, `view`, animations), the Python package and the viewer.
 //!
-//! A name is a built-in scene (`appel scenes`), a mesh file (`bunny.ply`, `x.zip`,
-//! `x.zip:inner.obj`) that is framed once its bounds are known, or a file of any registered scene
-//! format ([`crate::format::registry`]) read with its parameters (Mitsuba's `-D`). Overrides of the
+//! A name is a built-in scene (`appel scenes`), a file of any registered scene format
+//! ([`crate::format::registry`]) read with its parameters (Mitsuba's `-D`), glTF files
+//! (`scene.glb`, `x.zip:inner.gltf`) among them, or another mesh file (`bunny.ply`, `x.zip`,
+//! `x.zip:inner.obj`) that is framed once its bounds are known. Overrides of the
 //! camera and `[render]` keys apply after the file is read, and again after a mesh file's framing,
 //! so that they win over both.
 
 use crate::description::archive_path::archive_path;
+use crate::description::framing::{pick_camera, view_through};
+use crate::description::loaded_mesh::FileCamera;
 use crate::description::parse::Syntax;
 use crate::description::{description_from_str, validate, Description};
 use crate::error::{Error, Result};
@@ -26,7 +29,7 @@ pub struct SceneRequest<'a, E> {
     pub name: &'a str,
     /// Parameters of the scene file (Mitsuba's `-D`); an error for names whose format takes none.
     pub params: FormatOptions,
-    /// A glTF mesh file's camera to view it through (0-based, in node order); by default its
+    /// A glTF file's camera to view it through (0-based, in traversal order); by default its
     /// first, or automatic framing when it has none. An error for any other scene.
     pub camera: Option<usize>,
     /// Changes to the description (camera and `[render]` keys), applied after it is read and again
@@ -63,6 +66,9 @@ pub struct ResolvedScene {
     pub base_dir: PathBuf,
     /// What the format's reader noticed but could render (pbrt's unused parameters).
     pub warnings: Vec<String>,
+    /// The cameras the file defines, to choose from (glTF's camera nodes); empty for scenes
+    /// with one camera.
+    pub cameras: Vec<FileCamera>,
     /// A mesh file, framed by [`build_resolved`] once its bounds are known.
     pub framed_model: bool,
     /// The time spent reading and checking the file.
@@ -75,12 +81,19 @@ pub fn resolve_description<E: From<Error>>(
 ) -> std::result::Result<ResolvedScene, E> {
     let start = Instant::now();
     let mut resolved = read_scene_or_model(request.name, &request.params, request.names)?;
-    if request.camera.is_some() && !resolved.framed_model {
-        return Err(Error::Invalid(format!(
-            "{} picks a camera of a glTF file; `{}` is a scene, whose camera is its own",
-            request.names.camera, request.name
-        ))
-        .into());
+    if let (Some(n), false) = (request.camera, resolved.framed_model) {
+        if resolved.cameras.is_empty() {
+            return Err(Error::Invalid(format!(
+                "{} picks a camera of a glTF file; `{}` defines none to choose from",
+                request.names.camera, request.name
+            ))
+            .into());
+        }
+        let chosen = pick_camera(&resolved.cameras, Some(n))
+            .map_err(|e| Error::Invalid(format!("{}: {e}", request.names.camera)))?;
+        if let Some(c) = chosen {
+            view_through(&mut resolved.description, c);
+        }
     }
     (request.overrides)(&mut resolved.description)?;
     check(&resolved.description, request.names)?;
@@ -128,9 +141,11 @@ fn check(d: &Description, names: RequestNames) -> Result<()> {
         .map_err(|e| Error::Invalid(format!("after {}: {}", names.overrides, e.message)))
 }
 
-/// Whether `name` is a mesh file Appel reads (or an archive holding one), to be framed.
+/// Whether `name` is a mesh file Appel reads (or an archive holding one), to be framed: not one
+/// a scene format reads (a glTF file is a scene).
 pub fn is_model(name: &str) -> bool {
-    is_mesh_file(Path::new(name))
+    let path = Path::new(name);
+    is_mesh_file(path) && crate::format::find(path).is_none()
 }
 
 /// A scene file, a mesh file (framed later, once its bounds are known), or a built-in scene.
@@ -163,10 +178,12 @@ fn read_scene_or_model(
         description,
         base_dir,
         warnings,
+        cameras: Vec::new(),
         framed_model,
         parse_time: Duration::ZERO,
     };
-    if is_mesh_file(path) {
+    let format = crate::format::find(path);
+    if is_model(name) {
         let (file, base_dir) = model_file(name)?;
         return Ok(resolved(
             model_description(&file),
@@ -175,7 +192,9 @@ fn read_scene_or_model(
             true,
         ));
     }
-    if Syntax::from_path(path).is_none() && crate::format::find(path).is_none() && !path.exists() {
+    // An entry of a zip archive exists if its archive does (the entry is looked up when read).
+    let on_disk = archive_path(path).map_or_else(|| path.to_path_buf(), |a| a.archive);
+    if Syntax::from_path(path).is_none() && format.is_none() && !on_disk.exists() {
         if let Some(text) = builtin_scene(name) {
             let origin = PathBuf::from(format!("<built-in scene {name}>"));
             let d = description_from_str(text, Syntax::Toml, &origin)?;
@@ -186,19 +205,17 @@ fn read_scene_or_model(
             builtin_names().join(", ")
         )));
     }
-    if !path.exists() {
+    if !on_disk.exists() {
         return Err(Error::io(
-            path,
+            on_disk,
             std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
         ));
     }
     let loaded = crate::format::load(path, params)?;
-    Ok(resolved(
-        loaded.description,
-        loaded.base_dir,
-        loaded.warnings,
-        false,
-    ))
+    Ok(ResolvedScene {
+        cameras: loaded.cameras,
+        ..resolved(loaded.description, loaded.base_dir, loaded.warnings, false)
+    })
 }
 
 /// A mesh file's name as the framing scene's shape names it (relative to its folder; an archive's

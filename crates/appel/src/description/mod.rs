@@ -11,6 +11,7 @@ pub mod bsdf;
 pub(crate) mod bsdf_registry;
 pub mod emitter;
 mod emitter_registry;
+pub mod framing;
 mod from_text;
 pub mod integrator;
 mod integrator_registry;

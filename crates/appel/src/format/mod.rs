@@ -1,13 +1,16 @@
 //! Scene formats: each reads one kind of scene file into a [`Description`], implementing
 //! [`SceneFormat`]; [`registry`] lists them once, and [`load`] picks the one that recognises a
-//! path. TOML and JSON ([`toml`]), Mitsuba 3 XML ([`mitsuba`]) and pbrt-v4 ([`pbrt`]). A format
+//! path. TOML and JSON ([`toml`]), Mitsuba 3 XML ([`mitsuba`]), pbrt-v4 ([`pbrt`]) and glTF 2.0
+//! ([`gltf`]). A format
 //! builds on the description and on `io`'s leaf readers only, and nothing beneath it names it.
 
+pub mod gltf;
 pub mod mitsuba;
 pub mod pbrt;
 pub mod registry;
 pub mod toml;
 
+use crate::description::loaded_mesh::FileCamera;
 use crate::description::origins::Origins;
 use crate::description::validate::Invalid;
 use crate::description::{path_string, Description};
@@ -35,6 +38,10 @@ pub struct LoadedDescription {
     pub origins: Origins,
     /// What the reader noticed but could render (pbrt's unused parameters).
     pub warnings: Vec<String>,
+    /// The cameras a file defines among its content, in the order a choice of camera numbers
+    /// them (glTF's camera nodes); `description.camera` views through the first. Empty for
+    /// formats whose scene has one camera.
+    pub cameras: Vec<FileCamera>,
 }
 
 /// One kind of scene file.
@@ -95,8 +102,11 @@ pub fn load(path: &Path, options: &FormatOptions) -> Result<LoadedDescription> {
     format.load(path, options)
 }
 
-/// The folder a scene file's relative paths are relative to.
+/// The folder a scene file's relative paths are relative to: for an entry of a zip archive
+/// (`x.zip:inner/scene.gltf`), the archive's folder.
 fn base_dir(path: &Path) -> PathBuf {
+    let archive = crate::description::archive_path::archive_path(path);
+    let path = archive.as_ref().map_or(path, |a| a.archive.as_path());
     path.parent()
         .map(Path::to_path_buf)
         .unwrap_or_else(|| PathBuf::from("."))
@@ -119,6 +129,7 @@ fn validate_converted(
         base_dir,
         origins,
         warnings,
+        cameras: Vec::new(),
     })
 }
 

@@ -9,6 +9,7 @@ static FORMATS: &[&dyn SceneFormat] = &[
     &super::toml::TomlFormat,
     &super::mitsuba::MitsubaFormat,
     &super::pbrt::PbrtFormat,
+    &super::gltf::GltfFormat,
 ];
 
 /// Every registered format, in the order they are asked.
@@ -21,7 +22,7 @@ pub fn find(path: &Path) -> Option<&'static dyn SceneFormat> {
     FORMATS.iter().copied().find(|f| f.recognises(path))
 }
 
-/// `.toml, .json, .xml or .pbrt`: the extensions of all formats, for messages.
+/// `.toml, .json, .xml, .pbrt, .pbrt.gz, .gltf or .glb`: the extensions of all formats, for messages.
 pub fn extension_list() -> String {
     let all: Vec<&str> = FORMATS
         .iter()
@@ -64,6 +65,10 @@ mod tests {
         assert_eq!(name("cbox.xml"), Some("mitsuba"));
         assert_eq!(name("k/killeroo.pbrt"), Some("pbrt"));
         assert_eq!(name("k/killeroo.pbrt.gz"), Some("pbrt"));
+        assert_eq!(name("h/DamagedHelmet.glb"), Some("gltf"));
+        assert_eq!(name("h/FlightHelmet.GLTF"), Some("gltf"));
+        assert_eq!(name("assets.zip:dir/scene.gltf"), Some("gltf"));
+        assert_eq!(name("assets.zip"), None);
         assert_eq!(name("bunny.ply"), None);
         assert_eq!(name("noext"), None);
     }
@@ -75,7 +80,7 @@ mod tests {
             .to_string();
         assert!(e.contains("scene.yaml"), "{e}");
         assert!(
-            e.contains("expected .toml, .json, .xml, .pbrt or .pbrt.gz"),
+            e.contains("expected .toml, .json, .xml, .pbrt, .pbrt.gz, .gltf or .glb"),
             "{e}"
         );
     }

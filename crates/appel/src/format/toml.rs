@@ -40,6 +40,7 @@ impl SceneFormat for TomlFormat {
             base_dir,
             origins: Origins::default(),
             warnings: Vec::new(),
+            cameras: Vec::new(),
         })
     }
 }

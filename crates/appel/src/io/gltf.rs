@@ -64,15 +64,20 @@ pub fn parse_gltf_with(
 
 type External<'a> = &'a dyn Fn(&str) -> std::result::Result<Vec<u8>, String>;
 
-fn parse(
-    data: &[u8],
-    path: &Path,
-    external: External,
-    namer: &dyn Fn(&str) -> PathBuf,
-) -> Result<LoadedMesh> {
+/// The file's JSON (of a `.gltf`, or of a `.glb`'s first chunk, with its binary chunk), checked
+/// against the specification's schema and references (every index in range), and for what the
+/// `gltf` crate would otherwise panic on. Buffers and images are not read.
+pub fn read_document(data: &[u8], path: &Path) -> Result<Gltf> {
     let err = |msg: String| Error::input(Location::file(path), msg);
-    let raw =
-        Gltf::from_slice_without_validation(data).map_err(|e| err(format!("invalid glTF: {e}")))?;
+    // Problems of a `.gltf` (text, not a `.glb`'s binary container) are placed at their line.
+    let text = !data.starts_with(b"glTF");
+    let raw = Gltf::from_slice_without_validation(data).map_err(|e| match &e {
+        ::gltf::Error::Deserialize(json) if text && json.line() > 0 => Error::input(
+            Location::line(path, json.line(), Some(json.column())),
+            format!("invalid glTF: {e}"),
+        ),
+        _ => err(format!("invalid glTF: {e}")),
+    })?;
     // gltf-json 1.4's validation indexes `accessors[POSITION]` without a bounds check (found by
     // fuzzing): check that reference before letting it validate the rest.
     let json = raw.document.as_json();
@@ -117,11 +122,38 @@ fn parse(
             )));
         }
     }
-    let gltf = Gltf {
-        document: ::gltf::Document::from_json(raw.document.into_json())
-            .map_err(|e| err(format!("invalid glTF: {e}")))?,
+    Ok(Gltf {
+        document: ::gltf::Document::from_json(raw.document.into_json()).map_err(|e| match e {
+            ::gltf::Error::Validation(problems) => {
+                let line = problems.first().and_then(|(at, _)| {
+                    let json = std::str::from_utf8(data).ok().filter(|_| text)?;
+                    super::json_path::line_of(json, &at.to_string())
+                });
+                let message = problems
+                    .iter()
+                    .map(|(at, problem)| format!("`{at}`: {}", problem.to_string().to_lowercase()))
+                    .collect::<Vec<_>>()
+                    .join("; ");
+                let location = match line {
+                    Some(line) => Location::line(path, line, None),
+                    None => Location::file(path),
+                };
+                Error::input(location, format!("invalid glTF: {message}"))
+            }
+            e => err(format!("invalid glTF: {e}")),
+        })?,
         blob: raw.blob,
-    };
+    })
+}
+
+fn parse(
+    data: &[u8],
+    path: &Path,
+    external: External,
+    namer: &dyn Fn(&str) -> PathBuf,
+) -> Result<LoadedMesh> {
+    let err = |msg: String| Error::input(Location::file(path), msg);
+    let gltf = read_document(data, path)?;
     let mut buffers: Vec<Vec<u8>> = Vec::new();
     for b in gltf.document.buffers() {
         let bytes = match b.source() {
@@ -166,24 +198,7 @@ fn parse(
 
     let mut out = LoadedMesh::default();
     let mut material_ids: HashMap<Option<usize>, Option<u32>> = HashMap::new();
-    let roots: Vec<Node> = match gltf
-        .document
-        .default_scene()
-        .or_else(|| gltf.document.scenes().next())
-    {
-        Some(scene) => scene.nodes().collect(),
-        None => {
-            let children: std::collections::HashSet<usize> = gltf
-                .document
-                .nodes()
-                .flat_map(|n| n.children().map(|c| c.index()).collect::<Vec<_>>())
-                .collect();
-            gltf.document
-                .nodes()
-                .filter(|n| !children.contains(&n.index()))
-                .collect()
-        }
-    };
+    let roots = scene_roots(&gltf.document);
     let mut uses: HashMap<usize, usize> = HashMap::new();
     for node in &roots {
         count_mesh_uses(node, &mut uses, 0);
@@ -210,6 +225,27 @@ fn parse(
             &out.images,
         ));
     Ok(out)
+}
+
+/// The nodes a file's scene starts from: the default scene's (glTF 2.0 section 3.5.4: `scene`),
+/// else the first scene's, else, for a file without scenes, every node that is no node's child.
+pub fn scene_roots(document: &::gltf::Document) -> Vec<Node<'_>> {
+    match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let children: std::collections::HashSet<usize> = document
+                .nodes()
+                .flat_map(|n| n.children().map(|c| c.index()).collect::<Vec<_>>())
+                .collect();
+            document
+                .nodes()
+                .filter(|n| !children.contains(&n.index()))
+                .collect()
+        }
+    }
 }
 
 /// How many nodes under `node` place each mesh (cycles end at the depth limit, which `node`
@@ -628,58 +664,11 @@ impl Ctx<'_> {
         self.out.lights.push(l);
     }
 
-    /// A glTF camera at `world`: it looks along the node's -z with +y up.
     fn camera(&mut self, camera: &::gltf::Camera, world: Mat4, node: &Node) {
-        use ::gltf::camera::Projection;
-        let eye = world.transform_point3(GVec3::ZERO);
-        let forward = world.transform_vector3(-GVec3::Z).normalize_or_zero();
-        let up = world.transform_vector3(GVec3::Y).normalize_or_zero();
-        let name = camera
-            .name()
-            .or(node.name())
-            .map_or_else(|| format!("camera {}", camera.index()), str::to_string);
-        // A view direction lost to rounding (a huge eye) or along `up` (a skewed transform) has
-        // no camera frame.
-        if !eye.is_finite()
-            || forward == GVec3::ZERO
-            || up == GVec3::ZERO
-            || eye + forward == eye
-            || forward.cross(up).length_squared() < 1e-12
-        {
-            self.out.warnings.push(format!(
-                "{name}: its node's transform is degenerate; the camera is left out"
-            ));
-            return;
+        match file_camera(camera, world, node) {
+            Ok(c) => self.out.cameras.push(c),
+            Err(w) => self.out.warnings.push(w),
         }
-        let base = CameraDesc {
-            eye: eye.into(),
-            look_at: (eye + forward).into(),
-            up: up.into(),
-            ..CameraDesc::default()
-        };
-        let (camera, aspect) = match camera.projection() {
-            Projection::Perspective(p) => (
-                CameraDesc {
-                    fov: p.yfov().to_degrees().clamp(0.01, 179.0),
-                    near_clip: p.znear().max(0.0),
-                    ..base
-                },
-                p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0),
-            ),
-            Projection::Orthographic(o) => (
-                CameraDesc {
-                    kind: CameraKind::Orthographic,
-                    half_width: Some(o.xmag().abs().max(1e-6)),
-                    ..base
-                },
-                (o.ymag() != 0.0).then(|| (o.xmag() / o.ymag()).abs()),
-            ),
-        };
-        self.out.cameras.push(FileCamera {
-            name,
-            camera,
-            aspect,
-        });
     }
 
     /// Checks that `a` has one of the allowed element types and lies inside its buffer, so that the
@@ -848,6 +837,64 @@ impl Ctx<'_> {
         }
         Ok(Some(tangents))
     }
+}
+
+/// A glTF camera placed by `node` at `world`: it looks along the node's -z with +y up (glTF 2.0
+/// section 3.10.1), or a warning saying why it cannot be used (a degenerate transform).
+pub fn file_camera(
+    camera: &::gltf::Camera,
+    world: Mat4,
+    node: &Node,
+) -> std::result::Result<FileCamera, String> {
+    use ::gltf::camera::Projection;
+    let eye = world.transform_point3(GVec3::ZERO);
+    let forward = world.transform_vector3(-GVec3::Z).normalize_or_zero();
+    let up = world.transform_vector3(GVec3::Y).normalize_or_zero();
+    let name = camera
+        .name()
+        .or(node.name())
+        .map_or_else(|| format!("camera {}", camera.index()), str::to_string);
+    // A view direction lost to rounding (a huge eye) or along `up` (a skewed transform) has
+    // no camera frame.
+    if !eye.is_finite()
+        || forward == GVec3::ZERO
+        || up == GVec3::ZERO
+        || eye + forward == eye
+        || forward.cross(up).length_squared() < 1e-12
+    {
+        return Err(format!(
+            "{name}: its node's transform is degenerate; the camera is left out"
+        ));
+    }
+    let base = CameraDesc {
+        eye: eye.into(),
+        look_at: (eye + forward).into(),
+        up: up.into(),
+        ..CameraDesc::default()
+    };
+    let (camera, aspect) = match camera.projection() {
+        Projection::Perspective(p) => (
+            CameraDesc {
+                fov: p.yfov().to_degrees().clamp(0.01, 179.0),
+                near_clip: p.znear().max(0.0),
+                ..base
+            },
+            p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0),
+        ),
+        Projection::Orthographic(o) => (
+            CameraDesc {
+                kind: CameraKind::Orthographic,
+                half_width: Some(o.xmag().abs().max(1e-6)),
+                ..base
+            },
+            (o.ymag() != 0.0).then(|| (o.xmag() / o.ymag()).abs()),
+        ),
+    };
+    Ok(FileCamera {
+        name,
+        camera,
+        aspect,
+    })
 }
 
 /// `KHR_texture_transform`'s matrix, translation * rotation * scale acting on (u, v, 1). The

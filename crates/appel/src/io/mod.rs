@@ -6,6 +6,7 @@ pub mod assets;
 pub mod bitmap_read;
 pub mod gltf;
 pub mod grid_volume;
+pub mod json_path;
 pub mod mesh_file;
 pub mod mikktspace_tangents;
 pub mod obj;
