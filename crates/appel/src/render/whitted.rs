@@ -423,11 +423,13 @@ fn shade_locally(
 
 /// The direction toward a delta emitter from `p`, the radiance it brings (intensity over the
 /// squared distance, or a directional light's irradiance), and where a shadow ray toward it ends
-/// (`None`: at infinity). The point light, the common case, without the general dispatch.
+/// (`None`: at infinity). Point and directional lights, the common cases, inline; the others
+/// through the general dispatch, which is a call.
 #[inline(always)]
 fn delta_light(light: &Emitter, p: Vec3) -> Option<(Vec3, Vec3, Option<Vec3>)> {
     match light {
         Emitter::Point(l) => l.sample_li(p).map(|s| (s.wi, s.weight, Some(l.position))),
+        Emitter::Directional(l) => l.sample_li().map(|s| (s.wi, s.weight, None)),
         other => other
             .sample_li(p, Vec2::ZERO)
             .map(|s| (s.wi, s.weight, other.position())),
