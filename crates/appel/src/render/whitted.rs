@@ -59,8 +59,9 @@ impl ShadeFirstHit for Raycast {
             return scene.background;
         };
         let origins = Origins::new(&h.si);
-        let m = scene.whitted_material(&h.hit, h.si.uv);
-        shade_locally(scene, &m, &h.si, -ray.dir, &origins, ctx)
+        let mut other = None;
+        let (m, albedo) = scene.whitted_material(&h.hit, h.si.uv, &mut other);
+        shade_locally(scene, m, albedo, &h.si, -ray.dir, &origins, ctx)
     }
 }
 
@@ -255,10 +256,11 @@ impl Whitted {
         let Some(SurfaceHit { hit, si }) = hit else {
             return scene.background;
         };
-        let m = scene.whitted_material(hit, si.uv);
+        let mut other = None;
+        let (m, albedo) = scene.whitted_material(hit, si.uv, &mut other);
         let wo = -ray.dir;
         let origins = Origins::new(si);
-        let mut color = shade_locally(scene, &m, si, wo, &origins, ctx);
+        let mut color = shade_locally(scene, m, albedo, si, wo, &origins, ctx);
         if depth >= self.max_depth || !m.is_specular() {
             return color;
         }
@@ -335,7 +337,7 @@ pub fn local_shading(
     wo: Vec3,
     ctx: &mut TraceContext,
 ) -> Vec3 {
-    shade_locally(scene, m, si, wo, &Origins::new(si), ctx)
+    shade_locally(scene, m, m.albedo, si, wo, &Origins::new(si), ctx)
 }
 
 /// The origins of the rays leaving one shading point: [`crate::math::offset_ray_origin`] depends on
@@ -367,18 +369,20 @@ impl<'a> Origins<'a> {
     }
 }
 
-/// Inlined, so that the surface interaction is read from where its caller built it, in
-/// registers or in stores of the same widths (see [`Origins::towards`]).
+/// [`local_shading`] with the albedo apart from the lobes `m` (whose own `albedo` is not read):
+/// a `phong` material's lobes are then read in place (see [`Scene::whitted_material`]). Inlined,
+/// so that the surface interaction is read from where its caller built it, in registers or in
+/// stores of the same widths (see [`Origins::towards`]).
 #[inline(always)]
 fn shade_locally(
     scene: &Scene,
     m: &Phong,
+    albedo: Vec3,
     si: &SurfaceInteraction,
     wo: Vec3,
     origins: &Origins,
     ctx: &mut TraceContext,
 ) -> Vec3 {
-    let albedo = m.albedo;
     let mut color = m.ambient * scene.ambient * albedo;
     if m.diffuse == 0.0 && m.specular == 0.0 {
         return color;
@@ -419,11 +423,13 @@ fn shade_locally(
 
 /// The direction toward a delta emitter from `p`, the radiance it brings (intensity over the
 /// squared distance, or a directional light's irradiance), and where a shadow ray toward it ends
-/// (`None`: at infinity). The point light, the common case, without the general dispatch.
+/// (`None`: at infinity). Point and directional lights, the common cases, inline; the others
+/// through the general dispatch, which is a call.
 #[inline(always)]
 fn delta_light(light: &Emitter, p: Vec3) -> Option<(Vec3, Vec3, Option<Vec3>)> {
     match light {
         Emitter::Point(l) => l.sample_li(p).map(|s| (s.wi, s.weight, Some(l.position))),
+        Emitter::Directional(l) => l.sample_li().map(|s| (s.wi, s.weight, None)),
         other => other
             .sample_li(p, Vec2::ZERO)
             .map(|s| (s.wi, s.weight, other.position())),

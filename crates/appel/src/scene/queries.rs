@@ -3,7 +3,7 @@
 
 use super::{Scene, SceneHit};
 use crate::accel::{Hit, Primitives, TraversalStats};
-use crate::math::{Ray, Vec2};
+use crate::math::{Ray, Vec2, Vec3};
 use crate::shading::bsdf::Phong;
 use crate::shading::material::Material;
 
@@ -69,15 +69,21 @@ impl Scene {
         &self.shading_materials[self.geometry.material(hit) as usize]
     }
 
-    /// What `whitted` and `raycast` read of the material hit, at texture coordinates `uv` (see
-    /// [`Material::whitted`]).
+    /// What `whitted` and `raycast` read of the material hit, at texture coordinates `uv`: its
+    /// Phong lobes and its albedo (see [`Material::whitted`], and there `other`).
     #[inline(always)]
-    pub fn whitted_material(&self, hit: &SceneHit, uv: Vec2) -> Phong {
+    pub fn whitted_material<'a>(
+        &'a self,
+        hit: &SceneHit,
+        uv: Vec2,
+        other: &'a mut Option<Phong>,
+    ) -> (&'a Phong, Vec3) {
         Material::whitted(
             &self.shading_materials,
             self.geometry.material(hit),
             uv,
             || self.geometry.attributes_at(hit),
+            other,
         )
     }
 

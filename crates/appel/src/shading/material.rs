@@ -352,26 +352,33 @@ impl Material {
         }
     }
 
-    /// What the `whitted` and `raycast` integrators read of material `index` at `uv`: a `phong`
-    /// material's own lobes, any other BSDF's [`super::bsdf::Bsdf::whitted`] response. `attributes` (asked
-    /// only for the latter) are the mesh attributes of the point.
+    /// What the `whitted` and `raycast` integrators read of material `index` at `uv`: its Phong
+    /// lobes and its albedo at the point. A `phong` material's lobes are borrowed from the
+    /// material itself (only its colour varies over the surface), so that the shading reads them
+    /// in place instead of from a copy made at every hit; any other BSDF's
+    /// [`super::bsdf::Bsdf::whitted`] response is evaluated into `other`, which the lobes then
+    /// borrow. `attributes` (asked only for the latter) are the mesh attributes of the point.
     #[inline(always)]
     pub fn whitted<'a>(
         materials: &'a [Material],
         index: u32,
         uv: Vec2,
         attributes: impl FnOnce() -> Option<AttributePoint<'a>>,
-    ) -> Phong {
+        other: &'a mut Option<Phong>,
+    ) -> (&'a Phong, Vec3) {
         match &materials[index as usize] {
-            Material::Phong(p) => p.at_uv(uv),
-            _ => Self::whitted_of_bsdf(
-                materials,
-                index,
-                &TexPoint {
-                    uv,
-                    attributes: attributes(),
-                },
-            ),
+            Material::Phong(p) => (&p.base, p.albedo(uv)),
+            _ => {
+                let m = other.insert(Self::whitted_of_bsdf(
+                    materials,
+                    index,
+                    &TexPoint {
+                        uv,
+                        attributes: attributes(),
+                    },
+                ));
+                (m, m.albedo)
+            }
         }
     }
 

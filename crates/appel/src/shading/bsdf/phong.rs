@@ -17,20 +17,15 @@ use crate::error::Result;
 use crate::math::{Vec2, Vec3};
 use crate::shading::texture::TexPoint;
 
-/// A `phong` material's constant parameters: its colour (with an optional procedural
-/// checkerboard) and its coefficients. [`Self::at_uv`] gives the BSDF at a surface point.
+/// A `phong` material's constant parameters: the BSDF with the material's colour as its albedo,
+/// and an optional procedural checkerboard that alternates that colour with another.
+/// [`Self::at_uv`] gives the BSDF at a surface point; the integrators that read the lobes
+/// themselves borrow [`Self::base`] and take only the albedo from the point ([`Self::albedo`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PhongParams {
-    pub color: Vec3,
+    /// Everything but the checkerboard: `albedo` is the material's colour.
+    pub base: Phong,
     pub checker: Option<Checker>,
-    pub ambient: f32,
-    pub diffuse: f32,
-    pub specular: f32,
-    pub shininess: f32,
-    pub reflection: f32,
-    pub transmission: f32,
-    pub ior: f32,
-    pub fresnel: bool,
 }
 
 /// Squares of side `size` alternating between the material's colour and `color`.
@@ -68,19 +63,21 @@ impl PhongParams {
     /// A `phong` material's parameters as written.
     pub fn from_desc(d: &PhongDesc) -> PhongParams {
         PhongParams {
-            color: d.color.into(),
+            base: Phong {
+                albedo: d.color.into(),
+                ambient: d.ambient,
+                diffuse: d.diffuse,
+                specular: d.specular,
+                shininess: d.shininess,
+                reflection: d.reflection,
+                transmission: d.transmission,
+                ior: d.ior,
+                fresnel: d.fresnel,
+            },
             checker: d.checker.as_ref().map(|c| Checker {
                 color: c.color.into(),
                 size: c.size,
             }),
-            ambient: d.ambient,
-            diffuse: d.diffuse,
-            specular: d.specular,
-            shininess: d.shininess,
-            reflection: d.reflection,
-            transmission: d.transmission,
-            ior: d.ior,
-            fresnel: d.fresnel,
         }
     }
 
@@ -89,31 +86,25 @@ impl PhongParams {
     pub fn at_uv(&self, uv: Vec2) -> Phong {
         Phong {
             albedo: self.albedo(uv),
-            ambient: self.ambient,
-            diffuse: self.diffuse,
-            specular: self.specular,
-            shininess: self.shininess,
-            reflection: self.reflection,
-            transmission: self.transmission,
-            ior: self.ior,
-            fresnel: self.fresnel,
+            ..self.base
         }
     }
 
     /// The diffuse colour at texture coordinates `uv`: squares of side `checker.size` alternate
-    /// between `color` (the square containing the origin's +u,+v corner) and `checker.color`.
+    /// between the material's colour (the square containing the origin's +u,+v corner) and
+    /// `checker.color`.
     #[inline(always)]
     pub fn albedo(&self, uv: Vec2) -> Vec3 {
         match self.checker {
             Some(c) => {
                 let cell = uv / c.size;
-                if (floor_i64(cell.x) + floor_i64(cell.y)).rem_euclid(2) == 0 {
-                    self.color
+                if floor_parity(cell.x) == floor_parity(cell.y) {
+                    self.base.albedo
                 } else {
                     c.color
                 }
             }
-            None => self.color,
+            None => self.base.albedo,
         }
     }
 
@@ -276,6 +267,25 @@ fn floor_i64(x: f32) -> i64 {
     }
 }
 
+/// `floor(x)` modulo 2 (0 or 1), as `floor_i64(x).rem_euclid(2)` for every `x`: the parity of
+/// the sum of two floors, which decides the checkerboard's square, is that of the two parities.
+/// Below 2^22 in magnitude, adding 1.5 * 2^23 rounds `x` to the nearest integer `n` and leaves
+/// `n`'s parity in the lowest mantissa bit (the constant is even), and `floor(x)` is `n` or, when
+/// `n > x`, `n - 1`. Those few exact float operations replace the saturating conversion and its
+/// correction, which were most of the checkerboard's cost; larger values, infinities and NaN take
+/// [`floor_i64`].
+#[inline(always)]
+fn floor_parity(x: f32) -> u32 {
+    const SHIFT: f32 = 12_582_912.0;
+    if x.abs() < 4_194_304.0 {
+        let shifted = x + SHIFT;
+        let n = shifted - SHIFT;
+        (shifted.to_bits() & 1) ^ (n > x) as u32
+    } else {
+        (floor_i64(x) & 1) as u32
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::AnyBsdf;
@@ -283,19 +293,21 @@ mod tests {
 
     fn params() -> PhongParams {
         PhongParams {
-            color: Vec3::new(1.0, 0.0, 0.0),
+            base: Phong {
+                albedo: Vec3::new(1.0, 0.0, 0.0),
+                ambient: 0.1,
+                diffuse: 0.9,
+                specular: 0.0,
+                shininess: 32.0,
+                reflection: 0.0,
+                transmission: 0.0,
+                ior: 1.5,
+                fresnel: false,
+            },
             checker: Some(Checker {
                 color: Vec3::new(1.0, 1.0, 0.0),
                 size: 2.0,
             }),
-            ambient: 0.1,
-            diffuse: 0.9,
-            specular: 0.0,
-            shininess: 32.0,
-            reflection: 0.0,
-            transmission: 0.0,
-            ior: 1.5,
-            fresnel: false,
         }
     }
 
@@ -394,6 +406,69 @@ mod tests {
         });
         for x in specials.into_iter().chain(random) {
             assert_eq!(floor_i64(x), x.floor() as i64, "{x}");
+        }
+    }
+
+    #[test]
+    fn floor_parity_is_that_of_floor_i64() {
+        let specials = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            -2.5,
+            0.499_999_97,
+            -0.499_999_97,
+            1.0 - f32::EPSILON / 2.0,
+            -1.0 + f32::EPSILON / 2.0,
+            2.999_999_8,
+            -2.999_999_8,
+            4_194_303.5,
+            -4_194_303.5,
+            4_194_304.0,
+            -4_194_304.0,
+            4_194_305.0,
+            8_388_607.5,
+            -8_388_607.5,
+            1.0e10,
+            -1.0e10,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ];
+        let mut s = 1u32;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            s
+        };
+        // Every bit pattern's kind of value, then values where the fast path applies, from
+        // fractions of a square to the edge of its range.
+        let random: Vec<f32> = (0..200_000)
+            .map(|i| {
+                let r = next();
+                match i % 3 {
+                    0 => f32::from_bits(r),
+                    1 => (r as i32) as f32 / 256.0,
+                    _ => (r as i32 >> 8) as f32 / 4.0,
+                }
+            })
+            .collect();
+        for x in specials.into_iter().chain(random) {
+            assert_eq!(
+                floor_parity(x),
+                floor_i64(x).rem_euclid(2) as u32,
+                "{x} ({:#x})",
+                x.to_bits()
+            );
         }
     }
 }
