@@ -576,12 +576,14 @@ fn gltf_lights_and_cameras_follow_their_nodes() {
         r#""extensionsUsed": ["KHR_lights_punctual"],
 "extensions": {"KHR_lights_punctual": {"lights": [
   {"type": "spot", "intensity": 5, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.4}},
-  {"type": "directional", "color": [1, 0.5, 0.25]}]}},
+  {"type": "directional", "color": [1, 0.5, 0.25]},
+  {"type": "spot", "spot": {}}]}},
 "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1, "aspectRatio": 2}}],
-"nodes": [{"mesh": 0, "children": [1, 2, 3]},
+"nodes": [{"mesh": 0, "children": [1, 2, 3, 4]},
           {"translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
           {"rotation": [-0.7071068, 0, 0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 1}}},
-          {"translation": [0, 0, 5], "camera": 0}],
+          {"translation": [0, 0, 5], "camera": 0},
+          {"extensions": {"KHR_lights_punctual": {"light": 2}}}],
 "scenes": [{"nodes": [0]}]"#,
     );
     let m = appel::io::gltf::parse_gltf_with(text.as_bytes(), Path::new("l.gltf"), &|_| {
@@ -616,6 +618,14 @@ fn gltf_lights_and_cameras_follow_their_nodes() {
         }
         other => panic!("{other:?}"),
     }
+    // A spot with the extension's default cones (inner 0) is a valid spot: its full-intensity
+    // cone is the smallest Appel's spot allows, not an invalid zero.
+    assert!(
+        matches!(m.lights[2], LightDesc::Spot(_)),
+        "{:?}",
+        m.lights[2]
+    );
+    m.lights[2].check().unwrap_or_else(|e| panic!("{e:?}"));
     let c = &m.cameras[0];
     assert_eq!(c.camera.eye, [0.0, 0.0, 5.0]);
     assert_eq!(c.camera.look_at, [0.0, 0.0, 4.0]);

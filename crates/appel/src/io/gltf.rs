@@ -22,8 +22,7 @@ use crate::description::loaded_mesh::{
     SharedPlacement,
 };
 use crate::description::texture_lookup::{Filter, Wrap};
-use crate::description::{CameraDesc, CameraKind, LightDesc};
-use crate::description::{DirectionalDesc, PointDesc, SpotDesc};
+use crate::description::{CameraDesc, CameraKind};
 use crate::error::{Error, Location, Result};
 use crate::geometry::TriangleMesh;
 use crate::math::{Vec2, Vec3};
@@ -612,56 +611,13 @@ impl Ctx<'_> {
     /// constant factor such as 683 lm/W would only rescale them. `range` is ignored (the
     /// specification allows renderers to).
     fn light(&mut self, light: &::gltf::khr_lights_punctual::Light, world: Mat4) {
-        use ::gltf::khr_lights_punctual::Kind;
-        let position = world.transform_point3(GVec3::ZERO);
-        let axis = world.transform_vector3(-GVec3::Z).normalize_or_zero();
-        let (color, intensity) = (light.color(), light.intensity());
-        // Found by fuzzing: an infinite or negative colour or intensity, or a position so large
-        // that a unit step along the axis is lost to rounding, would fail validation later
-        // without naming the file.
-        let valid_colour = color.iter().all(|c| c.is_finite() && *c >= 0.0);
-        if !(position.is_finite()
-            && axis != GVec3::ZERO
-            && position + axis != position
-            && intensity.is_finite()
-            && intensity >= 0.0
-            && valid_colour)
-        {
-            self.out.warnings.push(format!(
+        match super::gltf_lights::placed_light(light, world) {
+            Some(l) => self.out.lights.push(l),
+            None => self.out.warnings.push(format!(
                 "light {}: its node's transform, its colour or its intensity is degenerate; it is left out",
                 light.index()
-            ));
-            return;
+            )),
         }
-        let l = match light.kind() {
-            Kind::Directional => LightDesc::Directional(DirectionalDesc {
-                direction: axis.into(),
-                color,
-                intensity,
-            }),
-            Kind::Point => LightDesc::Point(PointDesc {
-                position: position.into(),
-                color,
-                intensity,
-            }),
-            Kind::Spot {
-                inner_cone_angle,
-                outer_cone_angle,
-            } => {
-                let outer = outer_cone_angle.to_degrees().clamp(0.01, 90.0);
-                LightDesc::Spot(SpotDesc {
-                    position: position.into(),
-                    look_at: (position + axis).into(),
-                    color,
-                    intensity,
-                    cutoff_angle: outer,
-                    beam_width: Some(inner_cone_angle.to_degrees().clamp(0.0, outer)),
-                    up: None,
-                    texture: None,
-                })
-            }
-        };
-        self.out.lights.push(l);
     }
 
     fn camera(&mut self, camera: &::gltf::Camera, world: Mat4, node: &Node) {

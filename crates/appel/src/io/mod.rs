@@ -5,6 +5,7 @@
 pub mod assets;
 pub mod bitmap_read;
 pub mod gltf;
+pub mod gltf_lights;
 pub mod grid_volume;
 pub mod json_path;
 pub mod mesh_file;
