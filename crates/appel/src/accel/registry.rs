@@ -82,7 +82,7 @@ macro_rules! define_structures {
                 }
             }
 
-            #[inline]
+            #[inline(always)]
             pub fn intersect<P: Primitives>(
                 &self,
                 prims: &P,
@@ -95,7 +95,7 @@ macro_rules! define_structures {
                 }
             }
 
-            #[inline]
+            #[inline(always)]
             pub fn occluded<P: Primitives>(
                 &self,
                 prims: &P,

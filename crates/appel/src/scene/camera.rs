@@ -71,7 +71,7 @@ impl Camera {
 
     /// The ray through the continuous film position `(x, y)` in pixels: pixel `(i, j)`'s centre is
     /// `(i + 0.5, j + 0.5)`.
-    #[inline]
+    #[inline(always)]
     pub fn ray(&self, x: f32, y: f32) -> Ray {
         let (w, h) = (self.width as f32, self.height as f32);
         let t = self.tan_half_fov;

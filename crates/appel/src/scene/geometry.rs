@@ -557,6 +557,7 @@ impl Geometry {
     }
 
     /// The mesh attributes at a hit, where the surface hit has them.
+    #[inline]
     pub fn attributes_at(&self, hit: &SceneHit) -> Option<AttributePoint<'_>> {
         let geometry = if hit.instance != NO_INSTANCE {
             let instance = &self.instances[hit.instance as usize];

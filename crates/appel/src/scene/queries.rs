@@ -9,7 +9,7 @@ use crate::shading::material::Material;
 
 impl Scene {
     /// Closest hit in `(0, t_max)`.
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<SceneHit> {
         let hit = if self.one_leaf() {
             self.intersect_one_leaf::<false>(ray, t_max, stats)
@@ -53,7 +53,7 @@ impl Scene {
     }
 
     /// Whether anything lies on the ray in `(0, t_max)`.
-    #[inline]
+    #[inline(always)]
     pub fn occluded(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> bool {
         self.geometry.occluded_unbounded(ray, t_max)
             || if self.one_leaf() {
