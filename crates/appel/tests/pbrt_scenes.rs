@@ -263,3 +263,47 @@ fn coated_materials_render() {
         "{gold:?}"
     );
 }
+
+/// An `infinite` light with an image reads it as pbrt-v4 writes it (an equal-area octahedral
+/// map, here a PFM file): a uniform image of radiance 0.5 lights a diffuse sphere as the
+/// constant `"rgb L" [0.5 0.5 0.5]` does, pixel blocks agreeing within their noise.
+#[test]
+fn an_equal_area_environment_image_lights_as_its_constant() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut pfm = b"PF\n8 8\n-1.0\n".to_vec();
+    for _ in 0..8 * 8 * 3 {
+        pfm.extend(0.5f32.to_le_bytes());
+    }
+    std::fs::write(dir.path().join("sky.pfm"), pfm).unwrap();
+    let scene = |light: &str| {
+        let text = format!(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 30 ]\n\
+             Film \"rgb\" \"integer xresolution\" [ 32 ] \"integer yresolution\" [ 32 ]\n\
+             Sampler \"independent\"\nIntegrator \"path\" \"integer maxdepth\" [ 4 ]\n\
+             WorldBegin\nAttributeBegin\nRotate 30 1 0 0\n{light}\nAttributeEnd\n\
+             Material \"diffuse\" \"rgb reflectance\" [ 0.6 0.5 0.4 ]\n\
+             Shape \"sphere\" \"float radius\" [ 1 ]\n"
+        );
+        let path = dir.path().join(format!("{}.pbrt", light.len()));
+        std::fs::write(&path, text).unwrap();
+        let loaded =
+            appel::format::load(&path, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+        render_loaded(loaded, &Setup { spp: 64, block: 4 }, |_| {})
+    };
+    let image = scene("LightSource \"infinite\" \"string filename\" \"sky.pfm\"");
+    let constant = scene("LightSource \"infinite\" \"rgb L\" [ 0.5 0.5 0.5 ]");
+    let (mut worst, mut mean_a, mut mean_b) = (0.0f64, 0.0f64, 0.0f64);
+    for (i, (a, b)) in image.rgb.iter().zip(&constant.rgb).enumerate() {
+        for c in 0..3 {
+            let sd = ((image.variance[i][c] + constant.variance[i][c]) as f64)
+                .sqrt()
+                .max(1e-4);
+            worst = worst.max((a[c] - b[c]).abs() as f64 / sd);
+            mean_a += a[c] as f64;
+            mean_b += b[c] as f64;
+        }
+    }
+    // 64 blocks of 3 channels: a 5-sigma excursion is improbable for identical expectations.
+    assert!(worst < 5.0, "worst block {worst} standard deviations apart");
+    assert!((mean_a / mean_b - 1.0).abs() < 0.02, "{mean_a} vs {mean_b}");
+}

@@ -25,6 +25,7 @@ macro_rules! for_each_emitter {
             Area { name: area, runtime: area::AreaEmitter, light: [] },
             Constant { name: constant, runtime: constant::ConstantEnvironment, light: [ConstantDesc] },
             EnvMap { name: envmap, runtime: envmap::EnvMap, light: [EnvMapDesc] },
+            EqualAreaEnvMap { name: equalareaenvmap, runtime: equal_area_envmap::EqualAreaEnvMap, light: [EqualAreaEnvMapDesc] },
             SunSky { name: sunsky, runtime: sunsky::SunSky, light: [SunSkyDesc] },
         }
     };

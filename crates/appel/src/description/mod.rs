@@ -28,8 +28,8 @@ pub mod validate;
 
 pub(crate) use bsdf_registry::for_each_bsdf;
 pub use emitter::{
-    AreaEmitterDesc, ConstantDesc, DirectionalDesc, EmitterParams, EnvMapDesc, LightDesc,
-    PointDesc, ProjectorDesc, SpotDesc, SunPlaceDesc, SunSkyDesc, SunTime,
+    AreaEmitterDesc, ConstantDesc, DirectionalDesc, EmitterParams, EnvMapDesc, EqualAreaEnvMapDesc,
+    LightDesc, PointDesc, ProjectorDesc, SpotDesc, SunPlaceDesc, SunSkyDesc, SunTime,
 };
 pub(crate) use emitter_registry::for_each_emitter;
 pub use emitter_registry::{is_light, light_names, EMITTER_NAMES};

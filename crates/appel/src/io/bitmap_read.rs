@@ -56,6 +56,10 @@ pub fn decode_bitmap(bytes: &[u8], path: &Path, raw: bool) -> Result<Bitmap> {
     if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
         return read_exr(bytes).map_err(|m| bad(format!("not a readable OpenEXR image: {m}")));
     }
+    if super::pfm::is_pfm(bytes) {
+        return super::pfm::decode_pfm(bytes)
+            .map_err(|m| bad(format!("not a readable PFM image: {m}")));
+    }
     let format = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
         ImageFormat::Png
     } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
@@ -66,7 +70,8 @@ pub fn decode_bitmap(bytes: &[u8], path: &Path, raw: bool) -> Result<Bitmap> {
         ImageFormat::Bmp
     } else {
         return Err(bad(
-            "not an image Appel reads (expected PNG, JPEG, BMP, OpenEXR or Radiance HDR)".into(),
+            "not an image Appel reads (expected PNG, JPEG, BMP, OpenEXR, Radiance HDR or PFM)"
+                .into(),
         ));
     };
     let image = image::load_from_memory_with_format(bytes, format)

@@ -11,6 +11,7 @@ pub mod json_path;
 pub mod mesh_file;
 pub mod mikktspace_tangents;
 pub mod obj;
+pub mod pfm;
 pub mod placements;
 pub mod ply;
 pub mod points;

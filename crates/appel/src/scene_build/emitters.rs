@@ -8,8 +8,9 @@ use crate::description::{
 use crate::error::{Error, Location, Result};
 use crate::scene::{Geometry, SceneEmitters, ShapeKind, NO_EMITTER};
 use crate::shading::emitter::{
-    AreaEmitter, ConstantEnvironment, DirectionalLight, Emitter, EnvMap, LightPicker, PointLight,
-    Projector, ShapeSampler, SpotLight, SunPlacement, SunSky, SunSkyParams,
+    AreaEmitter, ConstantEnvironment, DirectionalLight, Emitter, EnvMap, EqualAreaEnvMap,
+    LightPicker, PointLight, Projector, ShapeSampler, SpotLight, SunPlacement, SunSky,
+    SunSkyParams,
 };
 use crate::shading::texture::Texture;
 use glam::{Mat4, Vec2, Vec3};
@@ -141,6 +142,14 @@ fn light(l: &LightDesc, textures: &mut TextureCache) -> Result<Emitter> {
             Emitter::EnvMap(EnvMap::new(&bitmap, m, e.scale).map_err(|err| {
                 Error::input(Location::file(textures.path_of(&e.file)), err.to_string())
             })?)
+        }
+        LightDesc::EqualAreaEnvMap(e) => {
+            let bitmap = textures.image(&e.file, true)?;
+            let m = e.transform.as_ref().map_or(Mat4::IDENTITY, |t| t.matrix());
+            Emitter::EqualAreaEnvMap(
+                EqualAreaEnvMap::new(&bitmap, m, e.scale)
+                    .map_err(|err| Error::input(Location::file(textures.path_of(&e.file)), err))?,
+            )
         }
         LightDesc::SunSky(s) => sunsky(s)?,
     })

@@ -26,8 +26,8 @@ fn encode(img: image::DynamicImage, format: image::ImageFormat) -> Vec<u8> {
     out.into_inner()
 }
 
-/// One image per decoder: PNG (8-bit RGB, 16-bit grey, grey+alpha), JPEG, BMP, Radiance HDR and
-/// OpenEXR (RGBA float and a lone Y channel).
+/// One image per decoder: PNG (8-bit RGB, 16-bit grey, grey+alpha), JPEG, BMP, Radiance HDR,
+/// OpenEXR (RGBA float and a lone Y channel) and PFM (colour little-endian, grey big-endian).
 pub fn images() -> Vec<Vec<u8>> {
     let rgb = image::RgbImage::from_fn(5, 3, |x, y| image::Rgb([x as u8 * 40, y as u8 * 80, 7]));
     let grey16 = image::ImageBuffer::<image::Luma<u16>, _>::from_fn(3, 3, |x, y| {
@@ -74,7 +74,25 @@ pub fn images() -> Vec<Vec<u8>> {
         encode(rgbf.into(), image::ImageFormat::Hdr),
         exr_rgba.into_inner(),
         exr_y.into_inner(),
+        pfm(b"PF", 3, 2, true),
+        pfm(b"Pf", 2, 2, false),
     ]
+}
+
+/// A portable float map of `w` by `h` pixels, little- or big-endian.
+fn pfm(magic: &[u8], w: usize, h: usize, little: bool) -> Vec<u8> {
+    let channels = if magic == b"PF" { 3 } else { 1 };
+    let mut out = magic.to_vec();
+    out.extend(format!("\n{w} {h}\n{}\n", if little { "-1.0" } else { "1.0" }).bytes());
+    for i in 0..w * h * channels {
+        let v = i as f32 * 0.25;
+        out.extend(if little {
+            v.to_le_bytes()
+        } else {
+            v.to_be_bytes()
+        });
+    }
+    out
 }
 
 /// A unit square (a quad) and a triangle with normals, colours and a face property, in every PLY

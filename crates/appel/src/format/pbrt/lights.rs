@@ -1,4 +1,5 @@
-//! pbrt's lights: `point`, `spot`, `distant` and `infinite` (a constant) as `[[light]]`
+//! pbrt's lights: `point`, `spot`, `distant` and `infinite` (a constant, or an equal-area
+//! octahedral image) as `[[light]]`
 //! entries, and `AreaLightSource "diffuse"` as the emitter of the shapes that follow it.
 //! Intensities follow pbrt-v4: an emission spectrum is normalised to one nit (an `rgb` value is
 //! taken as it is), then multiplied by `scale`; `power`, where given, sets the total power.
@@ -6,9 +7,12 @@
 use super::convert::{AreaLight, Converter};
 use super::params::{ParamSet, ParamType};
 use super::parser::Directive;
+use super::shapes::rows;
 use super::spectrum::{rgb_of, Use};
 use crate::description::LightDesc;
-use crate::description::{ConstantDesc, DirectionalDesc, PointDesc, SpotDesc};
+use crate::description::{
+    ConstantDesc, DirectionalDesc, EqualAreaEnvMapDesc, PointDesc, SpotDesc, TransformDesc,
+};
 use crate::error::Result;
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -106,21 +110,6 @@ impl Converter {
                 })
             }
             "infinite" => {
-                if let Some(q) = p.string("filename")?.map(|f| f.to_string()) {
-                    let at = &p.get("filename").expect("read").loc;
-                    let path = self.base_dir.join(&q);
-                    if !path.is_file() {
-                        return Err(at.error(format!(
-                            "the environment image \"{q}\" is missing (looked for {})",
-                            path.display()
-                        )));
-                    }
-                    return Err(at.error(format!(
-                        "\"{q}\": pbrt-v4's environment images are equal-area octahedral maps \
-                         (square), which Appel does not read; its environment maps are \
-                         latitude-longitude"
-                    )));
-                }
                 if let Some(q) = p.get("portal") {
                     return Err(q.error("portals are not supported"));
                 }
@@ -130,10 +119,32 @@ impl Converter {
                          \"scale\"",
                     ));
                 }
-                let l = self.emission(p, "L")?;
-                LightDesc::Constant(ConstantDesc {
-                    radiance: l.map(|c| c as f32),
-                })
+                match p.string("filename")?.map(|f| f.to_string()) {
+                    Some(q) => {
+                        let at = &p.get("filename").expect("read").loc;
+                        let path = self.base_dir.join(&q);
+                        if !path.is_file() {
+                            return Err(at.error(format!(
+                                "the environment image \"{q}\" is missing (looked for {})",
+                                path.display()
+                            )));
+                        }
+                        // pbrt-v4 lights the scene with the image as it is, times `scale` (an
+                        // RGB illuminant spectrum of the image's colour space, which is its RGB
+                        // again), in the light's frame: the CTM, mirrored as the world is.
+                        LightDesc::EqualAreaEnvMap(EqualAreaEnvMapDesc {
+                            file: path.to_string_lossy().into_owned(),
+                            scale: p.float_or("scale", 1.0)? as f32,
+                            transform: Some(TransformDesc {
+                                matrix: Some(rows(&m)),
+                                ..TransformDesc::default()
+                            }),
+                        })
+                    }
+                    None => LightDesc::Constant(ConstantDesc {
+                        radiance: self.emission(p, "L")?.map(|c| c as f32),
+                    }),
+                }
             }
             other => {
                 return Err(d.loc.error(format!(

@@ -307,3 +307,36 @@ fn validation_errors_point_at_the_directive() {
         assert!(e.starts_with(expected), "{e}");
     }
 }
+
+/// An `infinite` light with an image is the equal-area environment map of that file, in the
+/// light's frame (the CTM, mirrored as the world is); a missing image is named.
+#[test]
+fn an_infinite_light_image_is_an_equal_area_map() {
+    let scene = format!(
+        "{CAMERA}WorldBegin\nAttributeBegin\nRotate -90 1 0 0\n\
+         LightSource \"infinite\" \"string filename\" \"sky.pfm\" \"float scale\" [ 2 ]\nAttributeEnd\n"
+    );
+    // The image must exist where the scene file is: written beside the file `load` makes.
+    let e = err(&scene);
+    assert!(
+        e.contains("\"sky.pfm\" is missing") && e.contains("a.pbrt:"),
+        "{e}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("sky.pfm"),
+        b"PF\n1 1\n-1\n\0\0\x80?\0\0\x80?\0\0\x80?",
+    )
+    .unwrap();
+    let path = dir.path().join("s.pbrt");
+    std::fs::write(&path, &scene).unwrap();
+    let s = load_pbrt(&path).unwrap_or_else(|e| panic!("{e}"));
+    let [LightDesc::EqualAreaEnvMap(l)] = &s.description.lights[..] else {
+        panic!("{:?}", s.description.lights);
+    };
+    assert!(l.file.ends_with("sky.pfm") && l.scale == 2.0, "{l:?}");
+    // Rotate -90 about x takes the light's +z (the image's centre) to the world's +y.
+    let m = l.transform.as_ref().unwrap().matrix();
+    let up = m.transform_vector3(glam::Vec3::Z);
+    assert!((up - glam::Vec3::Y).length() < 1e-5, "{up}");
+}

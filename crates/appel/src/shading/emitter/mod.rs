@@ -5,6 +5,7 @@
 //! and the enum's per-call match are generated.
 
 pub mod distribution;
+pub mod equal_area;
 mod light_picker;
 pub mod shape_sampler;
 pub mod warp;
