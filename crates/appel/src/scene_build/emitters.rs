@@ -102,7 +102,13 @@ impl SceneEmitters {
             .filter(|&e| emitters[e as usize].is_delta())
             .collect();
         Ok(Self {
-            picker: LightPicker::new(&powers),
+            picker: LightPicker::new(
+                &powers,
+                &emitters
+                    .iter()
+                    .map(Emitter::is_infinite)
+                    .collect::<Vec<_>>(),
+            ),
             emitters,
             of_shape,
             infinite,
