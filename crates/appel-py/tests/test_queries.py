@@ -362,6 +362,12 @@ def test_geometric_only_on_a_shared_mesh_with_vertex_normals():
     d = rng.uniform(lo, hi, size=(5000, 3)) - o
     full = assert_geometric_is_full(s, o.astype(np.float32), d.astype(np.float32))
     assert np.isfinite(full["t_hit"]).mean() > 0.2
+    # Rays from one point, as a camera's, are traced in packets: the same hits again.
+    eye = np.array(s.camera["eye"], np.float32)
+    target = rng.uniform(lo, hi, size=(64, 48, 3)).astype(np.float32)
+    target.sort(axis=1)  # neighbours close together, as a camera's rays are
+    full = assert_geometric_is_full(s, np.broadcast_to(eye, target.shape), target - eye)
+    assert np.isfinite(full["t_hit"]).mean() > 0.2
 
 
 def test_geometric_only_writes_into_the_arrays_given():

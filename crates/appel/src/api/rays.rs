@@ -1,6 +1,7 @@
 //! Closest-hit and any-hit queries over arrays of rays, written into the caller's arrays.
 
 use super::{SceneHandle, MISS};
+use crate::accel::bvh::PACKET;
 use crate::accel::TraversalStats;
 use crate::math::{Ray, Vec3};
 use crate::scene::{Scene, SceneHit};
@@ -226,6 +227,7 @@ impl SceneHandle {
     ) {
         let scene = self.read();
         let scene = &*scene;
+        let packets = scene.accel.has_packets();
         let GeometricHits {
             t,
             prim_ids,
@@ -251,38 +253,50 @@ impl SceneHandle {
                      uv: &mut [f32],
                      n: Option<&mut [f32]>| {
             let mut stats = TraversalStats::default();
-            let hits = t
-                .iter_mut()
-                .zip(p.iter_mut())
-                .zip(s.iter_mut())
-                .zip(i.iter_mut())
-                .zip(uv.chunks_exact_mut(2));
-            let rays = o.chunks_exact(3).zip(d.chunks_exact(3));
             let mut n = n;
-            for (j, ((o, d), ((((t, p), s), i), uv))) in rays.zip(hits).enumerate() {
-                let ray = Ray::new(vec3(o), vec3(d));
-                let hit = if tnear > 0.0 {
-                    self.closest_beyond(scene, &ray, tnear, tfar)
-                } else {
-                    scene.intersect(&ray, tfar, &mut stats)
-                };
-                match hit {
-                    None => {
-                        *t = f32::INFINITY;
-                        (*p, *s, *i) = (MISS, MISS, MISS);
-                        uv.copy_from_slice(&[0.0; 2]);
-                        if let Some(n) = n.as_deref_mut() {
-                            n[3 * j..3 * j + 3].copy_from_slice(&[0.0; 3]);
-                        }
+            let groups = o.chunks(3 * PACKET).zip(d.chunks(3 * PACKET));
+            for (k, (o, d)) in groups.enumerate() {
+                let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO); PACKET];
+                let rays = &mut rays[..o.len() / 3];
+                for (r, (o, d)) in rays
+                    .iter_mut()
+                    .zip(o.chunks_exact(3).zip(d.chunks_exact(3)))
+                {
+                    *r = Ray::new(vec3(o), vec3(d));
+                }
+                let mut hits = [None; PACKET];
+                let hits = &mut hits[..rays.len()];
+                if tnear > 0.0 {
+                    for (ray, h) in rays.iter().zip(hits.iter_mut()) {
+                        *h = self.closest_beyond(scene, ray, tnear, tfar);
                     }
-                    Some(h) => {
-                        let (shape, prim) = scene.geometry.source_ids(&h);
-                        *t = h.t;
-                        (*p, *s, *i) = (prim, shape, h.instance);
-                        uv.copy_from_slice(&[h.u, h.v]);
-                        if let Some(n) = n.as_deref_mut() {
-                            let g = scene.geometry.geometric_normal(&ray, &h);
-                            n[3 * j..3 * j + 3].copy_from_slice(&g.to_array());
+                } else if packets && coherent(rays) {
+                    scene.intersect_coherent(rays, tfar, hits, &mut stats);
+                } else {
+                    for (ray, h) in rays.iter().zip(hits.iter_mut()) {
+                        *h = scene.intersect(ray, tfar, &mut stats);
+                    }
+                }
+                for (j, (ray, hit)) in rays.iter().zip(hits.iter()).enumerate() {
+                    let j = k * PACKET + j;
+                    match hit {
+                        None => {
+                            t[j] = f32::INFINITY;
+                            (p[j], s[j], i[j]) = (MISS, MISS, MISS);
+                            uv[2 * j..2 * j + 2].copy_from_slice(&[0.0; 2]);
+                            if let Some(n) = n.as_deref_mut() {
+                                n[3 * j..3 * j + 3].copy_from_slice(&[0.0; 3]);
+                            }
+                        }
+                        Some(h) => {
+                            let (shape, prim) = scene.geometry.source_ids(h);
+                            t[j] = h.t;
+                            (p[j], s[j], i[j]) = (prim, shape, h.instance);
+                            uv[2 * j..2 * j + 2].copy_from_slice(&[h.u, h.v]);
+                            if let Some(n) = n.as_deref_mut() {
+                                let g = scene.geometry.geometric_normal(ray, h);
+                                n[3 * j..3 * j + 3].copy_from_slice(&g.to_array());
+                            }
                         }
                     }
                 }
@@ -296,6 +310,19 @@ impl SceneHandle {
                 .for_each(|((((((o, d), t), p), s), i), uv)| trace(o, d, t, p, s, i, uv, None)),
         }
     }
+}
+
+/// Whether rays look like a camera's (one origin, directions in one octant): such rays are
+/// traced in packets, which give the same hits as single rays and cost less when the rays stay
+/// together through the tree; rays from different origins would part at once.
+#[inline]
+fn coherent(rays: &[Ray]) -> bool {
+    let first = rays[0];
+    let octant = first.dir.is_negative_bitmask();
+    rays.len() > 1
+        && rays
+            .iter()
+            .all(|r| r.origin == first.origin && r.dir.is_negative_bitmask() == octant)
 }
 
 /// The outputs cut into chunks of [`CHUNK`] rays, one per parallel task.
