@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Ray throughput from Python: appel's `Scene.intersect` against embreex and trimesh on the same
-numpy arrays, with 1 and 2 threads, and the cost of crossing into Python as the ratio to the CLI's
-own figure for the same camera rays (`appel bench MESH --json`).
+"""Ray throughput from Python: appel's `Scene.intersect` (full, and `geometric_only=True`) and
+`Scene.occluded` against embreex and trimesh on the same numpy arrays, with 1 and 2 threads, and
+the cost of crossing into Python as the ratio to the CLI's own figure for the same camera rays
+(`appel bench MESH --json`).
 
     .venv/bin/python bench/python_queries.py ../shared/data/common-3d-test-models/{spot.obj,stanford-bunny.obj.gz}
 
@@ -87,14 +88,17 @@ def median_mrays(call, n, repeat):
 
 
 def peers(mesh):
-    """The peers that are installed: name -> (threads, function of (origins, directions))."""
+    """The peers that are installed: name -> (threads, function of (origins, directions), which
+    of appel's calls it is compared with)."""
     found = {}
     try:
         from embreex import rtcore_scene, mesh_construction
 
         es = rtcore_scene.EmbreeScene()
         mesh_construction.TriangleMesh(es, mesh.triangles.astype(np.float32))
-        found["embreex run(output=1)"] = (1, lambda o, d: es.run(o, d, output=1))
+        found["embreex run(output=1)"] = (1, lambda o, d: es.run(o, d, output=1), "geometric")
+        found["embreex run(query='OCCLUDED')"] = (
+            1, lambda o, d: es.run(o, d, query="OCCLUDED"), "occluded")
     except ImportError:
         print("embreex is not installed: skipped", file=sys.stderr)
     try:
@@ -104,6 +108,7 @@ def peers(mesh):
         found["trimesh (embreex) intersects_location"] = (
             1,
             lambda o, d: rmi.intersects_location(o, d, multiple_hits=False),
+            "intersect",
         )
     except ImportError:
         print("trimesh's embree backend is not available: skipped", file=sys.stderr)
@@ -124,7 +129,7 @@ def main():
     p.add_argument("meshes", nargs="+")
     p.add_argument("--repeat", type=int, default=5)
     args = p.parse_args()
-    print("| mesh | triangles | rays | caller | threads | Mrays/s | vs appel (same threads) |")
+    print("| mesh | triangles | rays | caller | threads | Mrays/s | vs appel's same call and threads |")
     print("|---|---|---|---|---|---|---|")
     for path in args.meshes:
         mesh = read_mesh(path)
@@ -135,23 +140,30 @@ def main():
         rays = {"camera": cam, "incoherent": incoherent_rays(lo, hi, len(cam[0]))}
         others = peers(mesh)
         cli = {t: cli_figures(path, t) for t in (1, 2)}
+        calls = {
+            "intersect": ("appel intersect", lambda o, d, t: scene.intersect(o, d, threads=t)),
+            "geometric": ("appel intersect(geometric_only=True)",
+                          lambda o, d, t: scene.intersect(o, d, threads=t, geometric_only=True)),
+            "occluded": ("appel occluded", lambda o, d, t: scene.occluded(o, d, threads=t)),
+        }
         for kind, (o, d) in rays.items():
             ours = {}
-            for threads in (1, 2):
-                ours[threads] = median_mrays(
-                    lambda: scene.intersect(o, d, threads=threads), len(o), args.repeat)
-                print(f"| {name} | {len(mesh.faces)} | {kind} | appel intersect | {threads} "
-                      f"| {ours[threads]:.2f} | 1.00 |")
-            for caller, (threads, call) in others.items():
-                mr = median_mrays(lambda: call(o, d), len(o), args.repeat)
+            for call, (label, f) in calls.items():
+                for threads in (1, 2):
+                    ours[call, threads] = median_mrays(
+                        lambda: f(o, d, threads), len(o), args.repeat)
+                    print(f"| {name} | {len(mesh.faces)} | {kind} | {label} | {threads} "
+                          f"| {ours[call, threads]:.2f} | 1.00 |")
+            for caller, (threads, f, call) in others.items():
+                mr = median_mrays(lambda: f(o, d), len(o), args.repeat)
                 print(f"| {name} | {len(mesh.faces)} | {kind} | {caller} | {threads} "
-                      f"| {mr:.2f} | {mr / ours[threads]:.2f} |")
+                      f"| {mr:.2f} | {mr / ours[call, threads]:.2f} ({call}) |")
             if kind == "camera":
                 for threads in (1, 2):
                     key = "primary_mrays_1t" if threads == 1 else "primary_mrays"
                     mr = cli[threads][key]
                     print(f"| {name} | {len(mesh.faces)} | {kind} | CLI `appel bench` | {threads} "
-                          f"| {mr:.2f} | {mr / ours[threads]:.2f} |")
+                          f"| {mr:.2f} | {mr / ours['geometric', threads]:.2f} (geometric) |")
 
 
 if __name__ == "__main__":

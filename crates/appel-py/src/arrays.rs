@@ -2,7 +2,10 @@
 //! whose last axis is 3; outputs are allocated here with their final shape and filled in place.
 
 use appel::api::Coords;
-use numpy::{Element, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{
+    Element, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyReadwriteArrayDyn,
+    PyUntypedArrayMethods,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -39,7 +42,7 @@ impl<'py> Input<'py> {
                     "{name}: entry {i} is not finite (NaN or infinite)"
                 )));
             }
-        } else if let Some(i) = coords_nan(&coords) {
+        } else if let Some(i) = coords.first_nan() {
             return Err(PyValueError::new_err(format!("{name}: entry {i} is NaN")));
         }
         Ok(input)
@@ -67,13 +70,6 @@ impl<'py> Input<'py> {
     }
 }
 
-fn coords_nan(c: &Coords) -> Option<usize> {
-    match c {
-        Coords::F32(v) => v.iter().position(|x| x.is_nan()).map(|i| i / 3),
-        Coords::F64(v) => v.iter().position(|x| x.is_nan()).map(|i| i / 3),
-    }
-}
-
 /// A new array of `leading` shape with `extra` trailing values (none: no extra axis).
 pub fn output<'py, T: Element>(
     py: Python<'py>,
@@ -97,4 +93,34 @@ pub fn output<'py, T: Element>(
 pub unsafe fn slice_mut<'a, T: Element>(a: &'a Bound<'_, PyArrayDyn<T>>) -> &'a mut [T] {
     // SAFETY: see above; the array is kept alive by `a`.
     unsafe { a.as_slice_mut().expect("a new array is contiguous") }
+}
+
+/// An output array the caller gave, `out[name]`, borrowed for writing: it must have dtype `T`,
+/// `shape`, be C-contiguous and writeable, and share no memory with another array of the call.
+pub fn given_output<'py, T: Element>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+    shape: &[usize],
+) -> PyResult<PyReadwriteArrayDyn<'py, T>> {
+    let expected = || {
+        format!(
+            "out[{name:?}]: expected a writeable C-contiguous {} array of shape {shape:?}",
+            std::any::type_name::<T>()
+        )
+    };
+    let a = obj
+        .downcast::<PyArrayDyn<T>>()
+        .map_err(|_| PyValueError::new_err(expected()))?;
+    if a.shape() != shape || !a.is_c_contiguous() {
+        return Err(PyValueError::new_err(format!(
+            "{}, got shape {:?}",
+            expected(),
+            a.shape()
+        )));
+    }
+    a.try_readwrite().map_err(|_| {
+        PyValueError::new_err(format!(
+            "out[{name:?}]: not writeable, or shares memory with another array of the call"
+        ))
+    })
 }

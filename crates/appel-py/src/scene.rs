@@ -1,11 +1,11 @@
 //! `NativeScene`: a loaded scene, its renders and its queries.
 
-use crate::arrays::{output, slice_mut, Input};
+use crate::arrays::{given_output, output, slice_mut, Input};
 use crate::errors::to_py;
 use crate::pools;
 use appel::api::{
-    is_override_key, ClosestHits, Coords, MeshArrays, Override, Placement, RayHits, RenderRequest,
-    SceneHandle,
+    is_override_key, ClosestHits, Coords, GeometricHits, MeshArrays, Override, Placement, RayHits,
+    RenderRequest, SceneHandle,
 };
 use appel::format::FormatOptions;
 use appel::render::{Film, Window};
@@ -357,6 +357,62 @@ impl NativeScene {
         r.set_item("normal", normal)?;
         r.set_item("position", position)?;
         Ok(r)
+    }
+
+    /// The closest hits without the surface interaction, written into `out`, a dict of arrays
+    /// of the rays' leading shape (with a last axis of 2 for `uv` and 3 for `normal`) that the
+    /// Python half made or checked: `t_hit` float32, `prim_ids`, `shape_ids`, `instance_ids`
+    /// uint32, `uv` float32 and, if present, `normal` float32.
+    #[pyo3(signature = (origins, directions, tnear, tfar, threads, out))]
+    #[allow(clippy::too_many_arguments)]
+    fn intersect_geometric<'py>(
+        &self,
+        py: Python<'py>,
+        origins: &Bound<'py, PyAny>,
+        directions: &Bound<'py, PyAny>,
+        tnear: f32,
+        tfar: f32,
+        threads: Option<i64>,
+        out: &Bound<'py, PyDict>,
+    ) -> PyResult<()> {
+        check_interval(tnear, tfar)?;
+        let (o, d) = rays(origins, directions)?;
+        let lead = o.leading();
+        let with = |extra: usize| {
+            let mut s = lead.clone();
+            s.push(extra);
+            s
+        };
+        let item = |name: &str| -> PyResult<Bound<'py, PyAny>> {
+            out.get_item(name)?
+                .ok_or_else(|| PyValueError::new_err(format!("out: no array {name:?}")))
+        };
+        let mut t = given_output::<f32>("t_hit", &item("t_hit")?, &lead)?;
+        let mut prim = given_output::<u32>("prim_ids", &item("prim_ids")?, &lead)?;
+        let mut shape = given_output::<u32>("shape_ids", &item("shape_ids")?, &lead)?;
+        let mut instance = given_output::<u32>("instance_ids", &item("instance_ids")?, &lead)?;
+        let mut uv = given_output::<f32>("uv", &item("uv")?, &with(2))?;
+        let mut normal = match out.get_item("normal")? {
+            Some(n) => Some(given_output::<f32>("normal", &n, &with(3))?),
+            None => None,
+        };
+        let contiguous = |_| PyValueError::new_err("out: an array is not C-contiguous");
+        let hits = GeometricHits {
+            t: t.as_slice_mut().map_err(contiguous)?,
+            prim_ids: prim.as_slice_mut().map_err(contiguous)?,
+            shape_ids: shape.as_slice_mut().map_err(contiguous)?,
+            instance_ids: instance.as_slice_mut().map_err(contiguous)?,
+            uv: uv.as_slice_mut().map_err(contiguous)?,
+            normal: match normal.as_mut() {
+                Some(n) => Some(n.as_slice_mut().map_err(contiguous)?),
+                None => None,
+            },
+        };
+        let (oc, dc) = (o.coords().unwrap(), d.coords().unwrap());
+        let h = &self.handle;
+        py.allow_threads(|| {
+            pools::run(threads, || h.intersect_geometric(oc, dc, tnear, tfar, hits))
+        })
     }
 
     #[pyo3(signature = (origins, directions, tnear, tfar, threads))]

@@ -291,5 +291,144 @@ def test_agrees_with_embree_on_shared_meshes(name):
     same = ours["prim_ids"][both] == theirs["primID"][both]
     assert same.mean() > 0.995
     assert np.allclose(ours["t_hit"][both][same], theirs["tfar"][both][same], rtol=1e-4)
+    geo = s.intersect(o, d, geometric_only=True, normal=True)
+    assert np.array_equal(geo["prim_ids"], ours["prim_ids"])
+    assert np.allclose(geo["uv"][both][same], np.stack([theirs["u"], theirs["v"]], -1)[both][same],
+                       atol=1e-4)
+    ng = theirs["Ng"][both][same]
+    ng /= np.linalg.norm(ng, axis=-1, keepdims=True)
+    # Embree's Ng follows the winding; Appel's is turned toward the vertex normals if any.
+    assert np.allclose(np.abs((geo["normal"][both][same] * ng).sum(-1)), 1, atol=1e-4)
     occ = es.run(o, d, query="OCCLUDED")
     assert (s.occluded(o, d) == (np.asarray(occ) != -1)).mean() > 0.999
+
+
+GEOMETRIC = ("t_hit", "prim_ids", "shape_ids", "instance_ids", "uv")
+
+
+def assert_geometric_is_full(s, o, d, **kw):
+    """The geometric-only hits equal the full call's, value for value, normals included."""
+    full = s.intersect(o, d, **kw)
+    geo = s.intersect(o, d, geometric_only=True, normal=True, **kw)
+    assert set(geo) == set(GEOMETRIC) | {"normal"}
+    for k in GEOMETRIC + ("normal",):
+        assert geo[k].dtype == full[k].dtype and geo[k].shape == full[k].shape, k
+        assert np.array_equal(geo[k], full[k]), k
+    bare = s.intersect(o, d, geometric_only=True, **kw)
+    assert set(bare) == set(GEOMETRIC)
+    for k in GEOMETRIC:
+        assert np.array_equal(bare[k], full[k]), k
+    return full
+
+
+def test_geometric_only_hits_are_the_full_hits():
+    v, f = icosahedron()
+    s = mesh_scene(v, f)
+    o, d = random_rays(2000, 11)
+    for dtype_o, dtype_d in ((np.float32, np.float32), (np.float64, np.float64),
+                             (np.float32, np.float64), (np.float64, np.float32)):
+        full = assert_geometric_is_full(s, o.astype(dtype_o), d.astype(dtype_d), threads=1)
+    hit = np.isfinite(full["t_hit"])
+    assert 0.3 < hit.mean() < 1  # both hits and misses are compared
+    assert (full["prim_ids"][~hit] == appel.MISS).all()
+    # Every thread count, the leading shape, and the multi-hit path of tnear > 0.
+    assert_geometric_is_full(s, o.reshape(40, 50, 3), d.reshape(40, 50, 3), threads=2)
+    assert_geometric_is_full(s, o, d, tnear=1e-3)
+    assert_geometric_is_full(s, o, d, tfar=3.0)
+
+
+def test_geometric_only_on_instances_spheres_and_planes():
+    v, f = icosahedron()
+    mesh = appel.Mesh(v, f)
+    turn = np.array([[0, -2, 0, 3], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], np.float64)
+    s = appel.Scene.from_meshes([mesh, mesh], transforms=[None, turn])
+    o, d = random_rays(3000, 12, radius=6.0)
+    full = assert_geometric_is_full(s, o + [1.5, 0, 0], d)
+    assert set(np.unique(full["instance_ids"])) == {0, 1, appel.MISS}
+    s = appel.load_dict({
+        "camera": {"eye": [0, 0, 5], "look_at": [0, 0, 0]},
+        "shape": [{"type": "sphere", "center": [0, 0, 0], "radius": 1.0},
+                  {"type": "plane", "point": [0, 0, -3], "normal": [0, 0, 1]}],
+    })
+    full = assert_geometric_is_full(s, o, d)
+    assert set(np.unique(full["shape_ids"])) == {0, 1, appel.MISS}
+
+
+def test_geometric_only_on_a_shared_mesh_with_vertex_normals():
+    s = appel.load(shared("common-3d-test-models", "spot.obj"))
+    lo, hi = s.bounds
+    rng = np.random.default_rng(13)
+    o = (rng.uniform(lo, hi, size=(5000, 3)) + rng.normal(size=(5000, 3)) * (hi - lo))
+    d = rng.uniform(lo, hi, size=(5000, 3)) - o
+    full = assert_geometric_is_full(s, o.astype(np.float32), d.astype(np.float32))
+    assert np.isfinite(full["t_hit"]).mean() > 0.2
+    # Rays from one point, as a camera's, are traced in packets: the same hits again.
+    eye = np.array(s.camera["eye"], np.float32)
+    target = rng.uniform(lo, hi, size=(64, 48, 3)).astype(np.float32)
+    target.sort(axis=1)  # neighbours close together, as a camera's rays are
+    full = assert_geometric_is_full(s, np.broadcast_to(eye, target.shape), target - eye)
+    assert np.isfinite(full["t_hit"]).mean() > 0.2
+
+
+def test_geometric_only_writes_into_the_arrays_given():
+    v, f = icosahedron()
+    s = mesh_scene(v, f)
+    o, d = random_rays(500, 14)
+    first = s.intersect(o, d, geometric_only=True, normal=True)
+    again = {k: np.full_like(a, 7) for k, a in first.items()}
+    keep = {k: a for k, a in again.items()}
+    got = s.intersect(o, d, geometric_only=True, out=again)
+    assert got is again and all(got[k] is keep[k] for k in keep)
+    for k in first:
+        assert np.array_equal(got[k], first[k]), k
+    # Without a 'normal' array none is written.
+    del again["normal"]
+    assert set(s.intersect(o[:3], d[:3], geometric_only=True,
+                           out={k: a[:3] for k, a in again.items()})) == set(GEOMETRIC)
+
+
+def test_geometric_only_errors_are_clear():
+    v, f = icosahedron()
+    s = mesh_scene(v, f)
+    o, d = random_rays(6, 15)
+    geo = s.intersect(o, d, geometric_only=True)
+    bad = d.copy()
+    bad[4, 2] = np.nan
+    with pytest.raises(ValueError, match="directions: entry 4 is NaN"):
+        s.intersect(o, bad, geometric_only=True)
+    with pytest.raises(ValueError, match="origins: entry 4 is not finite"):
+        s.intersect(bad, d, geometric_only=True)
+    with pytest.raises(ValueError, match="origins: expected float32 or float64, got int32"):
+        s.intersect(o.astype(np.int32), d, geometric_only=True)
+    with pytest.raises(ValueError, match=r"directions: expected shape \(\.\.\., 3\)"):
+        s.intersect(o, d[:, :2], geometric_only=True)
+    with pytest.raises(ValueError, match="shapes"):
+        s.intersect(o, d[:5], geometric_only=True)
+    with pytest.raises(ValueError, match="only with geometric_only=True"):
+        s.intersect(o, d, out=geo)
+    with pytest.raises(ValueError, match="out: expected a dict"):
+        s.intersect(o, d, geometric_only=True, out=[geo["t_hit"]])
+    with pytest.raises(ValueError, match='out: no array "uv"'):
+        s.intersect(o, d, geometric_only=True, out={k: a for k, a in geo.items() if k != "uv"})
+    with pytest.raises(ValueError, match="normal: out has no 'normal' array"):
+        s.intersect(o, d, geometric_only=True, normal=True, out=geo)
+    wrong = [("t_hit", geo["t_hit"].astype(np.float64)),     # dtype
+             ("prim_ids", geo["prim_ids"].astype(np.int32)),  # signedness
+             ("uv", geo["uv"][:5]),                           # shape
+             ("uv", np.empty((6, 4), np.float32)[:, ::2]),    # not contiguous
+             ("t_hit", geo["t_hit"].tolist())]                # not an array
+    for key, value in wrong:
+        with pytest.raises(ValueError, match=f"out\\[\"{key}\"\\]: expected a writeable"):
+            s.intersect(o, d, geometric_only=True, out={**geo, key: value})
+    frozen = geo["t_hit"].copy()
+    frozen.flags.writeable = False
+    with pytest.raises(ValueError, match="not writeable"):
+        s.intersect(o, d, geometric_only=True, out={**geo, "t_hit": frozen})
+    # An output that is also an input (t_hit over the origins' memory) is refused.
+    o32 = o.astype(np.float32)
+    with pytest.raises(ValueError, match="shares memory"):
+        s.intersect(o32, d, geometric_only=True, out={**geo, "t_hit": o32.reshape(-1)[:6]})
+    with pytest.raises(ValueError, match="tfar"):
+        s.intersect(o, d, tnear=1.0, tfar=1.0, geometric_only=True)
+    with pytest.raises(ValueError, match="threads"):
+        s.intersect(o, d, geometric_only=True, threads=-1)

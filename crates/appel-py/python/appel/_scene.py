@@ -157,14 +157,41 @@ class Scene:
             close()
         return image_from(arrays, names)
 
-    def intersect(self, origins, directions, tnear=0.0, tfar=np.inf, threads=None):
+    def intersect(self, origins, directions, tnear=0.0, tfar=np.inf, threads=None,
+                  geometric_only=False, normal=None, out=None):
         """Closest hits in ``(tnear, tfar)``: a dict of ``t_hit`` (inf on a miss), ``prim_ids``,
         ``shape_ids``, ``instance_ids`` (uint32, 4294967295 on a miss), ``uv`` (..., 2),
-        ``normal`` (..., 3, unit geometric normal) and ``position`` (..., 3)."""
-        return self._native.intersect(
-            _coords("origins", origins), _coords("directions", directions),
-            float(tnear), float(tfar), threads,
-        )
+        ``normal`` (..., 3, unit geometric normal) and ``position`` (..., 3).
+
+        With ``geometric_only=True`` only what the traversal finds is reported, as Embree's
+        ``rtcIntersect1`` does: ``t_hit``, the three ids and ``uv``, plus ``normal`` if
+        ``normal=True``; the values are those of the full call, at a fraction of its cost.
+        ``out`` is then a dict of arrays to write into instead of new ones (such as the dict a
+        previous call returned, for rays of the same shape); it is returned, and ``normal`` is
+        computed if it has that key."""
+        o, d = _coords("origins", origins), _coords("directions", directions)
+        if not geometric_only:
+            if out is not None or normal is not None:
+                raise ValueError("out and normal: only with geometric_only=True")
+            return self._native.intersect(o, d, float(tnear), float(tfar), threads)
+        lead = o.shape[:-1]
+        if out is None:
+            out = {
+                "t_hit": np.empty(lead, np.float32),
+                "prim_ids": np.empty(lead, np.uint32),
+                "shape_ids": np.empty(lead, np.uint32),
+                "instance_ids": np.empty(lead, np.uint32),
+                "uv": np.empty(lead + (2,), np.float32),
+            }
+            if normal:
+                out["normal"] = np.empty(lead + (3,), np.float32)
+        elif not isinstance(out, dict):
+            raise ValueError(f"out: expected a dict of arrays, got {type(out).__name__}")
+        elif normal is not None and bool(normal) != ("normal" in out):
+            raise ValueError("normal: out has no 'normal' array" if normal
+                             else "normal=False, but out has a 'normal' array")
+        self._native.intersect_geometric(o, d, float(tnear), float(tfar), threads, out)
+        return out
 
     def occluded(self, origins, directions, tnear=0.0, tfar=np.inf, threads=None):
         """Whether anything lies on each ray in ``(tnear, tfar)``: a bool array."""

@@ -20,7 +20,7 @@ pub use image::ImageArrays;
 pub use load::{is_override_key, render_keys, Override, CAMERA_KEYS};
 pub use meshes::{MeshArrays, Placement};
 pub use multi_hit::HitList;
-pub use rays::{Coords, RayHits};
+pub use rays::{Coords, GeometricHits, RayHits};
 pub use render::RenderRequest;
 pub use resolve::{
     build_resolved, builtin_names, is_model, resolve_description, resolve_scene, RequestNames,

@@ -70,6 +70,13 @@ impl InstanceTransform {
         out
     }
 
+    /// A unit normal in object space as a unit normal in world space.
+    #[inline]
+    pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
+        // Normals transform by the inverse transpose of the linear part.
+        (Mat3::from(self.to_object.matrix3).transpose() * n).normalize_or(n)
+    }
+
     /// The interaction in world space. The point's error bound has three parts (pbrt-v4 6.8.6):
     /// the object-space bound carried through the linear part; the rounding of `to_world` itself;
     /// and, because a ray leaving this point re-enters object space through `to_object` (for the
@@ -89,9 +96,7 @@ impl InstanceTransform {
         // is of the same size): bound its coordinates by twice that, conservatively.
         let origin = p.abs() + 2.0 * forward;
         let back = (1.0 + gamma(3)) * (abs_linear * (gamma(3) * (abs_inverse * origin + t_inv)));
-        // Normals transform by the inverse transpose of the linear part.
-        let normal_to_world = Mat3::from(self.to_object.matrix3).transpose();
-        let normal = |n: Vec3| (normal_to_world * n).normalize_or(n);
+        let normal = |n: Vec3| self.normal_to_world(n);
         SurfaceInteraction {
             p,
             p_error: forward + back,

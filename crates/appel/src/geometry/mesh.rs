@@ -55,16 +55,27 @@ impl TriangleMesh {
         test.intersect(ray, t_max, p0, p1, p2)
     }
 
-    /// The hit point is recomputed from the barycentrics, whose error bound (pbrt-v4 eq. 6.30) does not
-    /// grow with the length of the ray.
-    pub fn interaction(&self, tri: usize, hit: &PrimHit) -> SurfaceInteraction {
-        let [p0, p1, p2] = self.vertices(tri);
-        let (b1, b2) = (hit.u, hit.v);
-        let b0 = 1.0 - b1 - b2;
-        let p = b0 * p0 + b1 * p1 + b2 * p2;
-        let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
+    /// The unit geometric normal at barycentrics `(u, v)` of triangle `tri`, turned as
+    /// [`Self::interaction`] turns it (toward the vertex normals where the mesh has them): its
+    /// `n` without the rest of the interaction, for queries that report nothing else.
+    #[inline]
+    pub fn geometric_normal(&self, tri: usize, u: f32, v: f32) -> Vec3 {
+        self.normals_at(self.vertices(tri), tri, 1.0 - u - v, u, v)
+            .0
+    }
+
+    /// The geometric normal and the shading normal (the geometric one without vertex normals).
+    #[inline(always)]
+    fn normals_at(
+        &self,
+        [p0, p1, p2]: [Vec3; 3],
+        tri: usize,
+        b0: f32,
+        b1: f32,
+        b2: f32,
+    ) -> (Vec3, Vec3) {
         let cross = (p1 - p0).cross(p2 - p0);
-        let n = if cross.length_squared() > 0.0 {
+        let mut n = if cross.length_squared() > 0.0 {
             cross.normalize()
         } else {
             // Only reachable for a triangle too small for f32 to express its normal; any unit vector
@@ -72,7 +83,6 @@ impl TriangleMesh {
             Vec3::Z
         };
         let [i0, i1, i2] = self.indices[tri].map(|i| i as usize);
-        let mut n = n;
         let ns = match &self.normals {
             Some(ns) => {
                 let s = b0 * ns[i0] + b1 * ns[i1] + b2 * ns[i2];
@@ -89,6 +99,19 @@ impl TriangleMesh {
             }
             None => n,
         };
+        (n, ns)
+    }
+
+    /// The hit point is recomputed from the barycentrics, whose error bound (pbrt-v4 eq. 6.30) does not
+    /// grow with the length of the ray.
+    pub fn interaction(&self, tri: usize, hit: &PrimHit) -> SurfaceInteraction {
+        let [p0, p1, p2] = self.vertices(tri);
+        let (b1, b2) = (hit.u, hit.v);
+        let b0 = 1.0 - b1 - b2;
+        let p = b0 * p0 + b1 * p1 + b2 * p2;
+        let p_error = gamma(7) * ((b0 * p0).abs() + (b1 * p1).abs() + (b2 * p2).abs());
+        let (n, ns) = self.normals_at([p0, p1, p2], tri, b0, b1, b2);
+        let [i0, i1, i2] = self.indices[tri].map(|i| i as usize);
         // Without texture coordinates, (u, v) are the barycentrics (b1, b2): vertex uvs (0,0),
         // (1,0), (0,1), which give dp/du = p1 - p0 below, as Mitsuba 3's meshes do.
         let uvs = match &self.uvs {

@@ -637,6 +637,25 @@ impl Geometry {
 impl Geometry {
     /// [`Geometry::interaction_with`] of a hit inside an instance, out of line (it recurses).
     #[inline(never)]
+    /// The unit geometric normal at a hit: the `n` of [`Self::interaction_with`], computed alone
+    /// for mesh triangles (instanced or not), whose full interaction costs several times more.
+    pub fn geometric_normal(&self, ray: &Ray, hit: &SceneHit) -> Vec3 {
+        if hit.instance != NO_INSTANCE {
+            let instance = &self.instances[hit.instance as usize];
+            let x = &instance.transform;
+            let inner = SceneHit {
+                instance: NO_INSTANCE,
+                ..*hit
+            };
+            let prototype = &self.prototypes[instance.prototype as usize].geometry;
+            return x.normal_to_world(prototype.geometric_normal(&x.ray_to_object(ray), &inner));
+        }
+        if let ShapeKind::Mesh(m) = &self.shapes[hit.shape as usize].kind {
+            return self.meshes[*m as usize].geometric_normal(hit.prim as usize, hit.u, hit.v);
+        }
+        self.interaction_with(ray, hit, false).n
+    }
+
     fn instance_interaction(&self, ray: &Ray, hit: &SceneHit, with_uv: bool) -> SurfaceInteraction {
         let instance = &self.instances[hit.instance as usize];
         let x = &instance.transform;
