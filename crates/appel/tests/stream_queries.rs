@@ -119,8 +119,16 @@ fn streams_match_single_rays(scene: &Scene, rays: &[Ray]) {
         let mut occluded = vec![false; n];
         scene.occluded_stream(rays, t_max, &mut occluded, &mut stream);
         for (i, ray) in rays.iter().enumerate() {
-            assert_eq!(out[i], scene.intersect(ray, f32::INFINITY, &mut single), "ray {i}");
-            assert_eq!(occluded[i], scene.occluded(ray, t_max[i], &mut single), "ray {i}");
+            assert_eq!(
+                out[i],
+                scene.intersect(ray, f32::INFINITY, &mut single),
+                "ray {i}"
+            );
+            assert_eq!(
+                occluded[i],
+                scene.occluded(ray, t_max[i], &mut single),
+                "ray {i}"
+            );
         }
         assert_eq!(stream, single);
     }
@@ -141,7 +149,11 @@ fn packets_and_streams_on_a_real_mesh_answer_as_single_rays() {
     assert!(hits > 6 && hits < 42, "{hits} of 48 rays hit");
     let mut rays = random_rays(2000, centre, reach, 8);
     // Camera rays too: the coherent case.
-    rays.extend((0..200).map(|i| scene.camera.ray((i % 20) as f32 * 3.1, (i / 20) as f32 * 4.7)));
+    rays.extend((0..200).map(|i| {
+        scene
+            .camera
+            .ray((i % 20) as f32 * 3.1, (i / 20) as f32 * 4.7)
+    }));
     streams_match_single_rays(&scene, &rays);
 }
 
@@ -163,7 +175,11 @@ fn packets_and_streams_on_the_whitted_scene_answer_as_single_rays() {
             rays.push(Ray::new(origin, w));
         }
     }
-    rays.extend((0..400).map(|i| scene.camera.ray((i % 20) as f32 * 31.9, (i / 20) as f32 * 23.9)));
+    rays.extend((0..400).map(|i| {
+        scene
+            .camera
+            .ray((i % 20) as f32 * 31.9, (i / 20) as f32 * 23.9)
+    }));
     let hits = packets_match_single_rays(&scene.geometry, &rays);
     assert!(hits > rays.len() / 5, "{hits} of {} rays hit", rays.len());
     streams_match_single_rays(&scene, &rays);

@@ -1,7 +1,7 @@
 use super::{PrimHit, SurfaceInteraction};
-use crate::math::{gamma, Aabb, Ray, RayF64, Vec2, Vec3};
 #[cfg(target_arch = "x86_64")]
 use crate::math::RayF64x4;
+use crate::math::{gamma, Aabb, Ray, RayF64, Vec2, Vec3};
 
 /// The plane `dot(normal, p) = offset`, infinite or limited to a rectangle centred on `point`.
 /// Infinite planes have no finite bounds, so they stay outside the acceleration structures and are

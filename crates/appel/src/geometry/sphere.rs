@@ -124,7 +124,11 @@ impl Sphere {
         lanes &= in_near | in_far;
         let (near, far) = (near.to_f32(), far.to_f32());
         for k in 0..4 {
-            t[k] = if in_near & (1 << k) != 0 { near[k] } else { far[k] };
+            t[k] = if in_near & (1 << k) != 0 {
+                near[k]
+            } else {
+                far[k]
+            };
         }
         lanes
     }

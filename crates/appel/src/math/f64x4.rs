@@ -137,7 +137,12 @@ impl Not for Mask4 {
     type Output = Self;
     #[inline(always)]
     fn not(self) -> Self {
-        unsafe { Self(_mm256_xor_pd(self.0, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)))) }
+        unsafe {
+            Self(_mm256_xor_pd(
+                self.0,
+                _mm256_castsi256_pd(_mm256_set1_epi64x(-1)),
+            ))
+        }
     }
 }
 
@@ -238,7 +243,16 @@ mod tests {
         let Some(avx) = Avx2::detect() else {
             return;
         };
-        let xs = [1.5, -0.0, f64::INFINITY, f64::NAN, 3e-310, -7.25, 1e300, 0.1];
+        let xs = [
+            1.5,
+            -0.0,
+            f64::INFINITY,
+            f64::NAN,
+            3e-310,
+            -7.25,
+            1e300,
+            0.1,
+        ];
         for i in 0..xs.len() {
             let a = [xs[i], xs[(i + 1) % 8], xs[(i + 2) % 8], xs[(i + 5) % 8]];
             let b = [xs[(i + 3) % 8], xs[(i + 4) % 8], xs[i], xs[(i + 7) % 8]];
@@ -273,14 +287,16 @@ mod tests {
             });
             assert_eq!(va.f32_inside(&t_max), inside);
         }
-        let rays = [0.3f32, -2.0, 1e-20, 5.5].map(|s| {
-            Ray::new(Vec3::new(s, 1.0 - s, 0.25 * s), Vec3::new(-s, 0.7, s * s))
-        });
+        let rays = [0.3f32, -2.0, 1e-20, 5.5]
+            .map(|s| Ray::new(Vec3::new(s, 1.0 - s, 0.25 * s), Vec3::new(-s, 0.7, s * s)));
         let packet = RayF64x4::new(avx, &rays);
         for (k, ray) in rays.iter().enumerate() {
             let r = RayF64::new(ray);
             let lane = |v: F64x4| v.to_array()[k].to_bits();
-            assert_eq!(lane(packet.dir_length_squared), r.dir_length_squared.to_bits());
+            assert_eq!(
+                lane(packet.dir_length_squared),
+                r.dir_length_squared.to_bits()
+            );
             assert_eq!(lane(packet.origin[1]), r.origin.y.to_bits());
             assert_eq!(lane(packet.dir[2]), r.dir.z.to_bits());
         }

@@ -716,17 +716,19 @@ fn analytic_packet<const ANY: bool>(
     macro_rules! record {
         ($lanes:expr, $id:expr) => {
             let lanes = $lanes;
-            found |= lanes;
-            for k in 0..LEAF_PACKET {
-                if lanes & (1 << k) != 0 {
-                    ids[k] = $id;
-                    if !ANY {
-                        t_max[k] = t[k];
+            if lanes != 0 {
+                found |= lanes;
+                for k in 0..LEAF_PACKET {
+                    if lanes & (1 << k) != 0 {
+                        ids[k] = $id;
+                        if !ANY {
+                            t_max[k] = t[k];
+                        }
                     }
                 }
-            }
-            if ANY {
-                looking &= !lanes;
+                if ANY {
+                    looking &= !lanes;
+                }
             }
         };
     }

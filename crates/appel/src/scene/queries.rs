@@ -77,7 +77,10 @@ impl Scene {
         for (rays, out) in rays.chunks(LEAF_PACKET).zip(out.chunks_mut(LEAF_PACKET)) {
             let n = rays.len();
             // Lanes past the end are copies of the last ray, never active.
-            let lanes: [Ray; LEAF_PACKET] = std::array::from_fn(|k| rays[k.min(n - 1)]);
+            let lanes: [Ray; LEAF_PACKET] = match rays.try_into() {
+                Ok(full) => full,
+                Err(_) => std::array::from_fn(|k| rays[k.min(n - 1)]),
+            };
             let mut limits = [t_max; LEAF_PACKET];
             let mut hits = [None; LEAF_PACKET];
             stats.rays += n as u64;
@@ -138,8 +141,13 @@ impl Scene {
             stats.rays += live;
             stats.prim_tests += tests * live;
             let mut hits = [None; LEAF_PACKET];
-            self.geometry
-                .intersect_all_packet::<true>(&lanes, active, &mut limits, &mut hits, stats);
+            self.geometry.intersect_all_packet::<true>(
+                &lanes,
+                active,
+                &mut limits,
+                &mut hits,
+                stats,
+            );
             for k in 0..n {
                 out[k] |= hits[k].is_some();
             }
