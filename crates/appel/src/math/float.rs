@@ -47,27 +47,6 @@ pub fn offset_ray_origin_by(p: Vec3, mut offset: Vec3, below: bool) -> Vec3 {
     }
     let po = p + offset;
     // Round away from p, so the offset survives the rounding of the addition above.
-    let (b, o) = (
-        po.to_array().map(f32::to_bits),
-        offset.to_array().map(f32::to_bits),
-    );
-    let common = |k: usize| {
-        let magnitude = b[k] & 0x7fff_ffff;
-        let off = o[k] & 0x7fff_ffff;
-        // A finite, non-zero `po` and a non-zero, non-NaN offset.
-        (magnitude.wrapping_sub(1) < 0x7f7f_ffff) & (off.wrapping_sub(1) < 0x7f80_0000)
-    };
-    if common(0) & common(1) & common(2) {
-        // `round_away`'s common case on the three lanes without a branch: one step away from zero
-        // where `po` and the offset have the same sign, towards zero otherwise.
-        let step = |k: usize| {
-            f32::from_bits(
-                b[k].wrapping_add(1)
-                    .wrapping_sub(((b[k] ^ o[k]) >> 31) << 1),
-            )
-        };
-        return Vec3::new(step(0), step(1), step(2));
-    }
     Vec3::new(
         round_away(po.x, offset.x),
         round_away(po.y, offset.y),
@@ -154,27 +133,6 @@ mod tests {
                     got.to_bits() == expected.to_bits() || (got.is_nan() && expected.is_nan()),
                     "po {po:e} off {off:e}: {got:e} != {expected:e}"
                 );
-                // `offset_ray_origin_by`'s three lanes at once, beside ordinary lanes (its
-                // branch-free common case) and in every lane.
-                let origin = |p: f32, o: f32| {
-                    let v = offset_ray_origin_by(
-                        Vec3::new(1.5, p, -2.0),
-                        Vec3::new(1e-6, o, -1e-6),
-                        false,
-                    );
-                    let (p, o) = (1.5 + 1e-6f32, -2.0 - 1e-6f32);
-                    assert_eq!(v.x.to_bits(), p.next_up().to_bits());
-                    assert_eq!(v.z.to_bits(), o.next_down().to_bits());
-                    v.y
-                };
-                let y = origin(po - off, off);
-                let want = round_away(po - off + off, off);
-                assert!(y.to_bits() == want.to_bits() || (y.is_nan() && want.is_nan()));
-                let all = offset_ray_origin_by(Vec3::splat(po - off), Vec3::splat(off), false);
-                assert!(all
-                    .to_array()
-                    .iter()
-                    .all(|v| v.to_bits() == want.to_bits() || (v.is_nan() && want.is_nan())));
             }
         }
     }

@@ -406,106 +406,94 @@ impl Whitted {
         ctx: &mut TraceContext,
     ) {
         let n = out.len();
-        let WaveBuffers {
-            nodes,
-            rays,
-            hits,
-            shadow_rays,
-            shadow_t_max,
-            shadow_terms,
-            occluded,
-        } = w;
-        nodes.clear();
-        rays.clear();
+        w.nodes.clear();
+        w.rays.clear();
         for (i, o) in out.iter_mut().enumerate() {
             let x = row.x0 + i as u32;
             sampler.start_pixel_sample(x, row.y, row.index);
             let (pos, ray) = camera_ray(scene, x, row.y, sampler);
             o.pos = pos;
-            nodes.push(TreeRay::new(ray, 0));
-            rays.push(ray);
+            w.nodes.push(TreeRay::new(ray, 0));
+            w.rays.push(ray);
         }
-        hits.clear();
-        hits.resize(n, None);
-        scene.intersect_coherent(rays, f32::INFINITY, hits, &mut ctx.traversal);
+        w.hits.clear();
+        w.hits.resize(n, None);
+        scene.intersect_coherent(&w.rays, f32::INFINITY, &mut w.hits, &mut ctx.traversal);
         ctx.rays.camera += n as u64;
         let mut wave = 0..n;
         while !wave.is_empty() {
-            shadow_rays.clear();
-            shadow_t_max.clear();
-            shadow_terms.clear();
-            for (i, hit) in wave.clone().zip(hits.iter()) {
-                let mut node = nodes[i];
-                let Some(h) = *hit else {
-                    nodes[i].color = scene.background;
+            w.shadow_rays.clear();
+            w.shadow_t_max.clear();
+            w.shadow_terms.clear();
+            for i in wave.clone() {
+                let Some(h) = w.hits[i - wave.start] else {
+                    w.nodes[i].color = scene.background;
                     continue;
                 };
-                let SurfaceHit { hit, si } = surface_hit(scene, &node.ray, h);
+                let TreeRay { ray, depth, .. } = w.nodes[i];
+                let SurfaceHit { hit, si } = surface_hit(scene, &ray, h);
                 let mut other = None;
                 let (m, albedo) = scene.whitted_material(&hit, si.uv, &mut other);
                 let origins = Origins::new(&si);
-                node.color = ambient_term(scene, m, albedo);
-                direct_terms(
-                    scene,
-                    m,
-                    albedo,
-                    &si,
-                    -node.ray.dir,
-                    &origins,
-                    |r, t, term| {
-                        shadow_rays.push(r);
-                        shadow_t_max.push(t);
-                        shadow_terms.push((i as u32, term));
-                    },
-                );
-                if node.depth < self.max_depth && m.is_specular() {
-                    let [reflected, refracted] = specular_rays(m, &node.ray, &si, &origins);
-                    if let Some((kr, r)) = reflected {
-                        ctx.rays.reflection += 1;
-                        node.kr = kr;
-                        node.reflected = nodes.len() as u32;
-                        nodes.push(TreeRay::new(r, node.depth + 1));
-                    }
-                    if let Some((kt, r)) = refracted {
-                        ctx.rays.refraction += 1;
-                        node.kt = kt;
-                        node.refracted = nodes.len() as u32;
-                        nodes.push(TreeRay::new(r, node.depth + 1));
-                    }
+                w.nodes[i].color = ambient_term(scene, m, albedo);
+                direct_terms(scene, m, albedo, &si, -ray.dir, &origins, |r, t, term| {
+                    w.shadow_rays.push(r);
+                    w.shadow_t_max.push(t);
+                    w.shadow_terms.push((i as u32, term));
+                });
+                if depth >= self.max_depth || !m.is_specular() {
+                    continue;
                 }
-                nodes[i] = node;
+                let [reflected, refracted] = specular_rays(m, &ray, &si, &origins);
+                if let Some((kr, r)) = reflected {
+                    ctx.rays.reflection += 1;
+                    w.nodes[i].kr = kr;
+                    w.nodes[i].reflected = w.nodes.len() as u32;
+                    w.nodes.push(TreeRay::new(r, depth + 1));
+                }
+                if let Some((kt, r)) = refracted {
+                    ctx.rays.refraction += 1;
+                    w.nodes[i].kt = kt;
+                    w.nodes[i].refracted = w.nodes.len() as u32;
+                    w.nodes.push(TreeRay::new(r, depth + 1));
+                }
             }
-            ctx.rays.shadow += shadow_rays.len() as u64;
-            occluded.clear();
-            occluded.resize(shadow_rays.len(), false);
-            scene.occluded_stream(shadow_rays, shadow_t_max, occluded, &mut ctx.traversal);
-            for (&(i, term), &occluded) in shadow_terms.iter().zip(occluded.iter()) {
+            ctx.rays.shadow += w.shadow_rays.len() as u64;
+            w.occluded.clear();
+            w.occluded.resize(w.shadow_rays.len(), false);
+            scene.occluded_stream(
+                &w.shadow_rays,
+                &w.shadow_t_max,
+                &mut w.occluded,
+                &mut ctx.traversal,
+            );
+            for (&(i, term), &occluded) in w.shadow_terms.iter().zip(&w.occluded) {
                 if !occluded {
-                    nodes[i as usize].color += term.value();
+                    w.nodes[i as usize].color += term.value();
                 }
             }
-            let next = wave.end..nodes.len();
-            rays.clear();
-            rays.extend(nodes[next.clone()].iter().map(|t| t.ray));
-            hits.clear();
-            hits.resize(next.len(), None);
-            scene.intersect_stream(rays, f32::INFINITY, hits, &mut ctx.traversal);
+            let next = wave.end..w.nodes.len();
+            w.rays.clear();
+            w.rays.extend(w.nodes[next.clone()].iter().map(|t| t.ray));
+            w.hits.clear();
+            w.hits.resize(next.len(), None);
+            scene.intersect_stream(&w.rays, f32::INFINITY, &mut w.hits, &mut ctx.traversal);
             wave = next;
         }
         // Children come after their parents: from the last ray back, each ray's children are
         // complete when it is combined.
-        for i in (0..nodes.len()).rev() {
-            let t = nodes[i];
+        for i in (0..w.nodes.len()).rev() {
+            let t = w.nodes[i];
             let mut color = t.color;
             if t.reflected != NO_CHILD {
-                color += t.kr * nodes[t.reflected as usize].color;
+                color += t.kr * w.nodes[t.reflected as usize].color;
             }
             if t.refracted != NO_CHILD {
-                color += t.kt * nodes[t.refracted as usize].color;
+                color += t.kt * w.nodes[t.refracted as usize].color;
             }
-            nodes[i].color = color;
+            w.nodes[i].color = color;
         }
-        for (o, t) in out.iter_mut().zip(nodes.iter()) {
+        for (o, t) in out.iter_mut().zip(&w.nodes) {
             o.radiance = t.color;
         }
     }
