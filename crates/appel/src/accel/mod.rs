@@ -148,7 +148,35 @@ pub trait Primitives: Sync {
     {
         self.intersect_ids::<ANY>(0..self.count() as u32, ray, t_max, stats)
     }
+    /// [`Self::intersect_all`] of a packet of rays: lane `k` (where bit `k` of `active` is set)
+    /// traces `rays[k]` against every primitive within its own `t_max[k]` (narrowed as
+    /// `intersect_all` narrows it) into `out[k]`; inactive lanes are left alone. A leaf of
+    /// everything is a packet's best case (Wald et al. 2001, "Interactive rendering with coherent
+    /// ray tracing": each primitive's data is fetched once for the packet and tested on all its
+    /// lanes at once). The default goes lane by lane; a set of primitives may override it with a
+    /// SIMD test, with the same hits.
+    #[inline(always)]
+    fn intersect_all_packet<const ANY: bool>(
+        &self,
+        rays: &[Ray; LEAF_PACKET],
+        active: u32,
+        t_max: &mut [f32; LEAF_PACKET],
+        out: &mut [Option<Hit>; LEAF_PACKET],
+        stats: &mut TraversalStats,
+    ) where
+        Self: Sized,
+    {
+        for k in 0..LEAF_PACKET {
+            if active & (1 << k) != 0 {
+                out[k] = self.intersect_all::<ANY>(&rays[k], &mut t_max[k], stats);
+            }
+        }
+    }
 }
+
+/// Rays in a packet of [`Primitives::intersect_all_packet`]: four f64 lanes of AVX2, the
+/// precision in which spheres and rectangles are solved.
+pub const LEAF_PACKET: usize = 4;
 
 /// The loop of [`Primitives::intersect_ids`]: `test(id, t_max)` of each id in turn, keeping the
 /// nearest hit (with `ANY`, stopping at the first).

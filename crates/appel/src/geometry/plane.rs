@@ -1,4 +1,6 @@
 use super::{PrimHit, SurfaceInteraction};
+#[cfg(target_arch = "x86_64")]
+use crate::math::RayF64x4;
 use crate::math::{gamma, Aabb, Ray, RayF64, Vec2, Vec3};
 
 /// The plane `dot(normal, p) = offset`, infinite or limited to a rectangle centred on `point`.
@@ -96,6 +98,47 @@ impl Plane {
             v: 0.0,
             sub: 0,
         })
+    }
+
+    /// [`Self::intersect_f64`] of four rays at once, as [`super::Sphere::intersect_f64x4`]: bit
+    /// `k` of the result where lane `k` (active in `active`) hits, its distance in `t[k]`, bit for
+    /// bit the scalar test's.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub fn intersect_f64x4(
+        &self,
+        ray: &RayF64x4,
+        active: u32,
+        t_max: &[f32; 4],
+        t: &mut [f32; 4],
+    ) -> u32 {
+        let [ox, oy, oz] = ray.origin;
+        let [dx, dy, dz] = ray.dir;
+        let zero = ox.splat_as(0.0);
+        let n = self.normal.as_dvec3();
+        let (nx, ny, nz) = (ox.splat_as(n.x), ox.splat_as(n.y), ox.splat_as(n.z));
+        let denom = nx * dx + ny * dy + nz * dz;
+        let num = ox.splat_as(self.offset as f64) - (nx * ox + ny * oy + nz * oz);
+        let miss = denom.eq(zero) | num.eq(zero) | num.lt(zero).xor(denom.lt(zero));
+        let tv = num / denom;
+        let mut lanes = active & !miss.bits() & tv.f32_inside(t_max);
+        if lanes == 0 {
+            return 0;
+        }
+        if let Some(h) = self.half_size {
+            let p = self.point.as_dvec3();
+            let lx = ox + tv * dx - ox.splat_as(p.x);
+            let ly = oy + tv * dy - ox.splat_as(p.y);
+            let lz = oz + tv * dz - ox.splat_as(p.z);
+            let (u, v) = (self.tangent.as_dvec3(), self.bitangent.as_dvec3());
+            let along_u = lx * ox.splat_as(u.x) + ly * ox.splat_as(u.y) + lz * ox.splat_as(u.z);
+            let along_v = lx * ox.splat_as(v.x) + ly * ox.splat_as(v.y) + lz * ox.splat_as(v.z);
+            let outside = along_u.abs().gt(ox.splat_as(h.x as f64))
+                | along_v.abs().gt(ox.splat_as(h.y as f64));
+            lanes &= !outside.bits();
+        }
+        *t = tv.to_f32();
+        lanes
     }
 
     /// Inlined into [`crate::scene::Geometry::interaction_with`] (see there).

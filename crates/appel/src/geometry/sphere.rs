@@ -1,5 +1,7 @@
 use super::{PrimHit, SurfaceInteraction};
 use crate::math::{gamma, Aabb, F64x2, Lanes, Ray, RayF64, Vec2, Vec3};
+#[cfg(target_arch = "x86_64")]
+use crate::math::{F64x4, Mask4, RayF64x4};
 use glam::DVec3;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -80,6 +82,57 @@ impl Sphere {
         })
     }
 
+    /// [`Self::intersect_f64`] of four rays at once (lanes with bit `k` of `active`), each lane
+    /// bounded by its own `t_max`: bit `k` of the result is set where lane `k` hits, and `t[k]`
+    /// is then its hit distance, the scalar test's bit for bit (the same operations in the same
+    /// order on each lane, its branches taken as masks).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub fn intersect_f64x4(
+        &self,
+        ray: &RayF64x4,
+        active: u32,
+        t_max: &[f32; 4],
+        t: &mut [f32; 4],
+    ) -> u32 {
+        let a = ray.dir_length_squared;
+        let zero = a.splat_as(0.0);
+        let c = self.center.as_dvec3();
+        let [dx, dy, dz] = ray.dir;
+        let x = ray.origin[0] - a.splat_as(c.x);
+        let y = ray.origin[1] - a.splat_as(c.y);
+        let z = ray.origin[2] - a.splat_as(c.z);
+        let r = a.splat_as(self.radius as f64);
+        let half_b = x * dx + y * dy + z * dz;
+        let o2 = x * x + y * y + z * z;
+        let c = o2 - r * r;
+        let early = misses_early_x4(a, half_b, o2, r);
+        let s = half_b / a;
+        let (lx, ly, lz) = (x - s * dx, y - s * dy, z - s * dz);
+        let disc = a * (r * r - (lx * lx + ly * ly + lz * lz));
+        let root = disc.sqrt();
+        let q = F64x4::select(half_b.lt(zero), -half_b + root, -half_b - root);
+        let miss = a.eq(zero) | early | disc.lt(zero) | q.eq(zero);
+        let mut lanes = active & !miss.bits() & 0xf;
+        if lanes == 0 {
+            return 0;
+        }
+        let (t0, t1) = (c / q, q / a);
+        let swap = t0.gt(t1);
+        let (near, far) = (F64x4::select(swap, t1, t0), F64x4::select(swap, t0, t1));
+        let (in_near, in_far) = (near.f32_inside(t_max), far.f32_inside(t_max));
+        lanes &= in_near | in_far;
+        let (near, far) = (near.to_f32(), far.to_f32());
+        for k in 0..4 {
+            t[k] = if in_near & (1 << k) != 0 {
+                near[k]
+            } else {
+                far[k]
+            };
+        }
+        lanes
+    }
+
     pub fn interaction(&self, ray: &Ray, hit: &PrimHit) -> SurfaceInteraction {
         self.interaction_with(ray, hit, true)
     }
@@ -156,6 +209,16 @@ fn misses_early<T: Lanes>(a: T, half_b: T, o2: T, r: T) -> T::Mask {
         | (half_b * half_b - a * c).lt(T::splat(-1e-9) * scale)
 }
 
+/// [`misses_early`] on four lanes, the same operations.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn misses_early_x4(a: F64x4, half_b: F64x4, o2: F64x4, r: F64x4) -> Mask4 {
+    let zero = a.splat_as(0.0);
+    let c = o2 - r * r;
+    let scale = half_b * half_b + a * (o2 + r * r);
+    (c.gt(zero) & half_b.ge(zero)) | (half_b * half_b - a * c).lt(a.splat_as(-1e-9) * scale)
+}
+
 /// Two spheres in f64, structure of arrays: a ray is tested against both at once by the
 /// early-outs of [`Sphere::intersect`] (where most tests end), in the same operations on two
 /// lanes ([`F64x2`]); only the spheres that pass need the full solve ([`Sphere::intersect_f64`]
@@ -185,6 +248,12 @@ impl SphereBlock {
         self.ids[k] = id;
         self.len += 1;
         true
+    }
+
+    /// How many spheres the block holds (one or two).
+    #[inline(always)]
+    pub fn count(&self) -> usize {
+        self.len
     }
 
     /// Sphere `k` and its primitive id.

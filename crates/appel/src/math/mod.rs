@@ -2,12 +2,16 @@
 
 mod aabb;
 mod f64x2;
+mod f64x4;
 mod float;
 mod ray;
 mod ray_box;
 
 pub use aabb::Aabb;
 pub use f64x2::{F64x2, Lanes, Mask2};
+pub use f64x4::Avx2;
+#[cfg(target_arch = "x86_64")]
+pub use f64x4::{F64x4, Mask4, RayF64x4};
 pub use float::{
     gamma, offset_ray_origin, offset_ray_origin_by, offset_ray_origin_to_side, surface_offset,
 };

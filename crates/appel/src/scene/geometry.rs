@@ -1,13 +1,15 @@
 //! All the surfaces of a scene, flattened into one list of primitives for the acceleration structure.
 
 use super::instance::{Instance, Prototype};
-use crate::accel::{closest_of, test_primitive, Hit, Primitives, TraversalStats};
+use crate::accel::{closest_of, test_primitive, Hit, Primitives, TraversalStats, LEAF_PACKET};
 use crate::description::loaded_mesh::MeshAttribute;
 use crate::geometry::{
     triangle_box_overlap, Cylinder, FileTangent, Implicit, ObjectTransform, Plane, PrimHit,
     SdfGrid, Sphere, SphereBlock, SurfaceInteraction, Torus, TriangleMesh, TriangleTest,
 };
 use crate::math::{Aabb, Ray, RayF64, Vec3};
+#[cfg(target_arch = "x86_64")]
+use crate::math::{Avx2, RayF64x4};
 use crate::shading::texture::AttributePoint;
 
 /// One surface: a `[[shape]]` of the scene file, or one part of a mesh file's `[[shape]]`.
@@ -499,6 +501,19 @@ impl Geometry {
         best
     }
 
+    /// Whether every primitive is a sphere or a rectangle (of the flat tables `intersect_all`
+    /// tests first), so that a packet can be tested on them alone.
+    #[inline(always)]
+    fn only_spheres_and_rectangles(&self) -> bool {
+        self.others.is_empty() && self.analytic.len() == self.prims.len()
+    }
+
+    /// Whether the scene has unbounded shapes (planes), which its queries test after the structure.
+    #[inline(always)]
+    pub fn has_unbounded(&self) -> bool {
+        !self.unbounded.is_empty()
+    }
+
     pub fn occluded_unbounded(&self, ray: &Ray, t_max: f32) -> bool {
         // Unbounded shapes are planes: nothing to count.
         let mut none = TraversalStats::default();
@@ -696,6 +711,73 @@ fn mitsuba_sphere_uv(si: &mut SurfaceInteraction, s: &Sphere, rows: &glam::Mat3)
 
 /// Makes hit `h` of primitive `id` the nearest so far (for an any-hit query, the stand-in that
 /// [`test_primitive`] reports); `true` when an any-hit query has its answer.
+/// [`Geometry::intersect_all`] of four rays in the lanes of AVX2 registers, for a set of only
+/// spheres and rectangles: each primitive in `intersect_all`'s order tested on every lane still
+/// looking ([`crate::geometry::Sphere::intersect_f64x4`], `Plane::intersect_f64x4`: the scalar
+/// tests' operations lane by lane), each lane's `t_max` narrowed at its hits as `record` narrows
+/// it, so each lane's hit is the scalar query's.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn analytic_packet<const ANY: bool>(
+    g: &Geometry,
+    avx: Avx2,
+    rays: &[Ray; LEAF_PACKET],
+    active: u32,
+    t_max: &mut [f32; LEAF_PACKET],
+    out: &mut [Option<Hit>; LEAF_PACKET],
+) {
+    let r = RayF64x4::new(avx, rays);
+    let limit = *t_max;
+    let mut looking = active;
+    let mut found = 0u32;
+    let mut ids = [0u32; LEAF_PACKET];
+    let mut t = [0.0f32; LEAF_PACKET];
+    // `record`'s narrowing, lane by lane.
+    macro_rules! record {
+        ($lanes:expr, $id:expr) => {
+            let lanes = $lanes;
+            if lanes != 0 {
+                found |= lanes;
+                for k in 0..LEAF_PACKET {
+                    if lanes & (1 << k) != 0 {
+                        ids[k] = $id;
+                        if !ANY {
+                            t_max[k] = t[k];
+                        }
+                    }
+                }
+                if ANY {
+                    looking &= !lanes;
+                }
+            }
+        };
+    }
+    for block in &g.sphere_blocks {
+        for k in 0..block.count() {
+            let (sphere, id) = block.get(k);
+            if looking != 0 {
+                record!(sphere.intersect_f64x4(&r, looking, t_max, &mut t), id);
+            }
+        }
+    }
+    for (rectangle, id) in &g.rectangles {
+        if looking != 0 {
+            record!(rectangle.intersect_f64x4(&r, looking, t_max, &mut t), *id);
+        }
+    }
+    for k in 0..LEAF_PACKET {
+        if active & (1 << k) == 0 {
+            continue;
+        }
+        out[k] = if found & (1 << k) != 0 {
+            let t = if ANY { limit[k] } else { t_max[k] };
+            Some(Hit::new(ids[k] as usize, PrimHit::any_hit(t)))
+        } else {
+            None
+        };
+    }
+}
+
 #[inline(always)]
 fn record<const ANY: bool>(best: &mut Option<Hit>, t_max: &mut f32, id: u32, h: PrimHit) -> bool {
     if ANY {
@@ -826,6 +908,30 @@ impl Primitives for Geometry {
         let others = self.others.iter().copied().chain(runs);
         self.intersect_ids_f64::<ANY>(others, ray, &r, t_max, stats)
             .or(best)
+    }
+
+    /// Spheres and rectangles four rays at a time in AVX2 ([`analytic_packet`]) where the set is
+    /// made of nothing else; otherwise, or without AVX2, lane by lane.
+    #[inline(always)]
+    fn intersect_all_packet<const ANY: bool>(
+        &self,
+        rays: &[Ray; LEAF_PACKET],
+        active: u32,
+        t_max: &mut [f32; LEAF_PACKET],
+        out: &mut [Option<Hit>; LEAF_PACKET],
+        stats: &mut TraversalStats,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if let (true, Some(avx)) = (self.only_spheres_and_rectangles(), Avx2::detect()) {
+            // SAFETY: the token says the CPU has AVX2.
+            unsafe { analytic_packet::<ANY>(self, avx, rays, active, t_max, out) };
+            return;
+        }
+        for k in 0..LEAF_PACKET {
+            if active & (1 << k) != 0 {
+                out[k] = self.intersect_all::<ANY>(&rays[k], &mut t_max[k], stats);
+            }
+        }
     }
 
     fn clip_overlaps(&self, i: usize, cell: &Aabb) -> bool {

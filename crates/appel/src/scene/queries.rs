@@ -2,7 +2,7 @@
 //! planes it leaves out.
 
 use super::{Scene, SceneHit};
-use crate::accel::{Hit, Primitives, TraversalStats};
+use crate::accel::{Hit, Primitives, TraversalStats, LEAF_PACKET};
 use crate::math::{Ray, Vec2, Vec3};
 use crate::shading::bsdf::Phong;
 use crate::shading::material::Material;
@@ -33,6 +33,9 @@ impl Scene {
         out: &mut [Option<SceneHit>],
         stats: &mut TraversalStats,
     ) {
+        if self.one_leaf() {
+            return self.intersect_stream(rays, t_max, out, stats);
+        }
         if !self.accel.has_packets() {
             for (ray, o) in rays.iter().zip(out.iter_mut()) {
                 *o = self.intersect(ray, t_max, stats);
@@ -48,6 +51,105 @@ impl Scene {
                 let bounded = hit.map(|h| self.geometry.scene_hit(h));
                 let t_max = bounded.map_or(t_max, |h| h.t);
                 *o = self.geometry.intersect_unbounded(ray, t_max).or(bounded);
+            }
+        }
+    }
+
+    /// [`Self::intersect`] of each of `rays` (`out[i]` for `rays[i]`), rays in any directions: the
+    /// stream interface of Embree's `rtcIntersect1M` (a batch handed over at once, traced in
+    /// whatever groups the scene can share work in). A scene of one leaf tests packets of
+    /// [`LEAF_PACKET`] rays in SIMD lanes ([`Primitives::intersect_all_packet`]); other scenes go
+    /// ray by ray. The hits and counts are [`Self::intersect`]'s on each ray.
+    pub fn intersect_stream(
+        &self,
+        rays: &[Ray],
+        t_max: f32,
+        out: &mut [Option<SceneHit>],
+        stats: &mut TraversalStats,
+    ) {
+        if !self.one_leaf() {
+            for (ray, o) in rays.iter().zip(out.iter_mut()) {
+                *o = self.intersect(ray, t_max, stats);
+            }
+            return;
+        }
+        let tests = self.geometry.count() as u64;
+        for (rays, out) in rays.chunks(LEAF_PACKET).zip(out.chunks_mut(LEAF_PACKET)) {
+            let n = rays.len();
+            // Lanes past the end are copies of the last ray, never active.
+            let lanes: [Ray; LEAF_PACKET] = match rays.try_into() {
+                Ok(full) => full,
+                Err(_) => std::array::from_fn(|k| rays[k.min(n - 1)]),
+            };
+            let mut limits = [t_max; LEAF_PACKET];
+            let mut hits = [None; LEAF_PACKET];
+            stats.rays += n as u64;
+            stats.prim_tests += tests * n as u64;
+            self.geometry.intersect_all_packet::<false>(
+                &lanes,
+                (1 << n) - 1,
+                &mut limits,
+                &mut hits,
+                stats,
+            );
+            let unbounded = self.geometry.has_unbounded();
+            for ((ray, hit), o) in rays.iter().zip(hits).zip(out.iter_mut()) {
+                let bounded = hit.map(|h| self.geometry.scene_hit(h));
+                *o = if unbounded {
+                    let t_max = bounded.map_or(t_max, |h| h.t);
+                    self.geometry.intersect_unbounded(ray, t_max).or(bounded)
+                } else {
+                    bounded
+                };
+            }
+        }
+    }
+
+    /// [`Self::occluded`] of each of `rays` within its own `t_max[i]` (`out[i]` for `rays[i]`): the
+    /// any-hit stream, in packets as [`Self::intersect_stream`]. Answers and counts are
+    /// [`Self::occluded`]'s on each ray.
+    pub fn occluded_stream(
+        &self,
+        rays: &[Ray],
+        t_max: &[f32],
+        out: &mut [bool],
+        stats: &mut TraversalStats,
+    ) {
+        if !self.one_leaf() {
+            for ((ray, &t), o) in rays.iter().zip(t_max).zip(out.iter_mut()) {
+                *o = self.occluded(ray, t, stats);
+            }
+            return;
+        }
+        let tests = self.geometry.count() as u64;
+        let chunks = rays.chunks(LEAF_PACKET).zip(t_max.chunks(LEAF_PACKET));
+        for ((rays, t_max), out) in chunks.zip(out.chunks_mut(LEAF_PACKET)) {
+            let n = rays.len();
+            let lanes: [Ray; LEAF_PACKET] = std::array::from_fn(|k| rays[k.min(n - 1)]);
+            let mut limits: [f32; LEAF_PACKET] = std::array::from_fn(|k| t_max[k.min(n - 1)]);
+            let mut active = 0;
+            for k in 0..n {
+                // As `occluded`: the unbounded planes first, the leaf only for rays they let pass.
+                out[k] = self.geometry.has_unbounded()
+                    && self.geometry.occluded_unbounded(&rays[k], t_max[k]);
+                active |= (!out[k] as u32) << k;
+            }
+            if active == 0 {
+                continue;
+            }
+            let live = active.count_ones() as u64;
+            stats.rays += live;
+            stats.prim_tests += tests * live;
+            let mut hits = [None; LEAF_PACKET];
+            self.geometry.intersect_all_packet::<true>(
+                &lanes,
+                active,
+                &mut limits,
+                &mut hits,
+                stats,
+            );
+            for k in 0..n {
+                out[k] |= hits[k].is_some();
             }
         }
     }
