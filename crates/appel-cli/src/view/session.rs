@@ -580,6 +580,12 @@ fn apply_settings(
         view.width = w;
         view.height = h;
     }
+    if let Some(r) = s.aperture_radius {
+        view.camera.lens_radius = r;
+    }
+    if let Some(f) = s.focus_distance {
+        view.camera.focus_distance = f;
+    }
     restart(view);
     Ok(())
 }
@@ -600,6 +606,8 @@ fn hello(view: &View, scene: &Scene) -> serde_json::Value {
         "look_at": [target.x, target.y, target.z],
         "up": [c.true_up.x, c.true_up.y, c.true_up.z],
         "fov": 2.0 * c.tan_half_fov.atan().to_degrees(),
+        "aperture_radius": c.lens_radius,
+        "focus_distance": c.focus_distance,
         "width": view.width,
         "height": view.height,
         "spp": view.spp,
