@@ -103,7 +103,8 @@ impl Camera {
     }
 
     /// The film position `(x, y)` in pixels as `(u, v)`, the coordinates along `right` and
-    /// `true_up` on the image plane at unit distance (orthographic: at `eye`).
+    /// `true_up` on the image plane at unit distance (orthographic: scene units across the view
+    /// rectangle at `eye`).
     #[inline(always)]
     fn film_uv(&self, x: f32, y: f32) -> (f32, f32) {
         let (w, h) = (self.width as f32, self.height as f32);
@@ -137,8 +138,8 @@ impl Camera {
         let f = self.focus_distance;
         let (start, dir) = match self.kind {
             CameraKind::Perspective => {
-                // The pinhole ray's direction has unit length along `forward`, so `f` times it
-                // lies on the plane in focus.
+                // The pinhole ray's unnormalised direction has a `forward` component of 1, so
+                // `f` times it reaches the plane in focus.
                 let focus = f * (self.forward + u * self.right + v * self.true_up);
                 (self.eye + offset, (focus - offset).normalize())
             }
