@@ -98,6 +98,45 @@ def test_viewer_plays_and_pauses_an_animation(serve, browser, tmp_path):
     assert not browser.execute_script("return window.appelViewer.errors.length")
 
 
+THIN_LENS_SCENE = """<scene version="3.0.0">
+  <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+  <sensor type="thinlens">
+    <float name="fov" value="40"/>
+    <float name="aperture_radius" value="0.3"/>
+    <float name="focus_distance" value="5"/>
+    <transform name="to_world"><lookat origin="0, 1, 5" target="0, 0.5, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="160"/><integer name="height" value="120"/></film>
+  </sensor>
+  <bsdf type="diffuse" id="red"><rgb name="reflectance" value="0.8, 0.1, 0.1"/></bsdf>
+  <shape type="sphere"><point name="center" x="-1" y="0.5" z="2.5"/><ref id="red"/></shape>
+  <shape type="sphere"><point name="center" x="1" y="0.5" z="-3"/><ref id="red"/></shape>
+  <emitter type="constant"><rgb name="radiance" value="0.5, 0.6, 0.8"/></emitter>
+</scene>
+"""
+
+
+def test_viewer_renders_a_thin_lens_and_sets_its_aperture(serve, browser, tmp_path):
+    """A Mitsuba `thinlens` scene: the panel shows its lens, the path-traced passes show the blur
+    (fewer distinct colours and a softer image than through a pinhole), and an aperture of 0 set in
+    the panel sharpens the image."""
+    scene = tmp_path / "thinlens.xml"
+    scene.write_text(THIN_LENS_SCENE)
+    browser.get(serve(str(scene), "--spp", "16"))
+    done = "const s = window.appelViewer; return s && s.last && !s.last.preview && s.last.spp >= 16"
+    wait(browser, done)
+    assert float(browser.find_element(By.ID, "aperture_radius").get_attribute("value")) == 0.3
+    assert float(browser.find_element(By.ID, "focus_distance").get_attribute("value")) == 5.0
+    blurred = browser.execute_script(CANVAS_STATS, "view")
+    keep(browser, "viewer-thinlens.png")
+    set_settings(browser, aperture_radius=0)
+    wait(browser, done)
+    sharp = browser.execute_script(CANVAS_STATS, "view")
+    assert sharp["hash"] != blurred["hash"]
+    # Blur mixes the spheres' edges into the sky: the pinhole image has the stronger contrast.
+    assert sharp["std"] > blurred["std"], (sharp, blurred)
+    assert not browser.execute_script("return window.appelViewer.errors.length")
+
+
 def test_a_still_scene_has_no_animation_controls(serve, browser):
     browser.get(serve("whitted", "--size", "64x48", "--spp", "1"))
     wait(browser, "const s = window.appelViewer; return s && s.last")

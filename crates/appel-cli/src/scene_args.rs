@@ -28,6 +28,12 @@ pub struct ViewArgs {
     /// Override camera.fov (vertical, degrees).
     #[arg(long)]
     pub fov: Option<f32>,
+    /// Override camera.aperture_radius: a thin lens of this radius in scene units (0: a pinhole).
+    #[arg(long, value_name = "R")]
+    pub aperture_radius: Option<f32>,
+    /// Override camera.focus_distance: the distance along the view axis to the plane in focus.
+    #[arg(long, value_name = "D")]
+    pub focus_distance: Option<f32>,
     /// View a glTF file through its camera N (0-based, in node order); by default its first
     /// camera, or automatic framing if it has none.
     #[arg(long, value_name = "N")]
@@ -50,6 +56,12 @@ impl ViewArgs {
         }
         if let Some(x) = self.fov {
             d.camera.fov = x;
+        }
+        if let Some(x) = self.aperture_radius {
+            d.camera.aperture_radius = x;
+        }
+        if let Some(x) = self.focus_distance {
+            d.camera.focus_distance = Some(x);
         }
         Ok(())
     }

@@ -32,6 +32,10 @@ pub struct SettingsMsg {
     pub format: Option<String>,
     /// The preview's resolution divisor while moving (1, 2, 4).
     pub preview_scale: Option<u32>,
+    /// The lens's aperture radius in scene units (0: a pinhole).
+    pub aperture_radius: Option<f32>,
+    /// The distance along the view axis to the plane in focus.
+    pub focus_distance: Option<f32>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -98,6 +102,22 @@ pub fn parse(text: &str) -> Result<ClientMsg, String> {
             }
             if v.get("preview_scale").is_some() {
                 s.preview_scale = Some(int_in(&v, "preview_scale", 1, 8)?);
+            }
+            if v.get("aperture_radius").is_some() {
+                let r = number(&v, "aperture_radius")? as f32;
+                if !(r >= 0.0 && r.is_finite()) {
+                    return Err(format!("aperture_radius: expected 0 or more, got {r}"));
+                }
+                s.aperture_radius = Some(r);
+            }
+            if v.get("focus_distance").is_some() {
+                let f = number(&v, "focus_distance")? as f32;
+                if !(f > 0.0 && f.is_finite()) {
+                    return Err(format!(
+                        "focus_distance: expected a positive distance, got {f}"
+                    ));
+                }
+                s.focus_distance = Some(f);
             }
             Ok(ClientMsg::Settings(s))
         }
@@ -216,6 +236,14 @@ mod tests {
             })
         );
         assert_eq!(
+            parse(r#"{"type":"settings","aperture_radius":0.1,"focus_distance":4}"#).unwrap(),
+            ClientMsg::Settings(SettingsMsg {
+                aperture_radius: Some(0.1),
+                focus_distance: Some(4.0),
+                ..Default::default()
+            })
+        );
+        assert_eq!(
             parse(r#"{"type":"ack","frame":7}"#).unwrap(),
             ClientMsg::Ack(7)
         );
@@ -253,6 +281,14 @@ mod tests {
             ),
             (r#"{"type":"settings","width":100000,"height":10}"#, "width"),
             (r#"{"type":"settings","spp":0}"#, "spp"),
+            (
+                r#"{"type":"settings","aperture_radius":-1}"#,
+                "aperture_radius",
+            ),
+            (
+                r#"{"type":"settings","focus_distance":0}"#,
+                "focus_distance",
+            ),
             (r#"{"type":"settings","accel":"../../etc/passwd"}"#, "accel"),
             (r#"{"type":"ack"}"#, "frame"),
             (r#"{"type":"play","playing":"yes"}"#, "playing"),

@@ -580,6 +580,12 @@ fn apply_settings(
         view.width = w;
         view.height = h;
     }
+    if let Some(r) = s.aperture_radius {
+        view.camera.lens_radius = r;
+    }
+    if let Some(f) = s.focus_distance {
+        view.camera.focus_distance = f;
+    }
     restart(view);
     Ok(())
 }
@@ -600,6 +606,8 @@ fn hello(view: &View, scene: &Scene) -> serde_json::Value {
         "look_at": [target.x, target.y, target.z],
         "up": [c.true_up.x, c.true_up.y, c.true_up.z],
         "fov": 2.0 * c.tan_half_fov.atan().to_degrees(),
+        "aperture_radius": shortest(c.lens_radius),
+        "focus_distance": shortest(c.focus_distance),
         "width": view.width,
         "height": view.height,
         "spp": view.spp,
@@ -615,6 +623,12 @@ fn hello(view: &View, scene: &Scene) -> serde_json::Value {
         "frames": view.animation.as_ref().map_or(1, |a| a.frames),
         "fps": view.animation.as_ref().map(|a| a.fps),
     })
+}
+
+/// `x` as the f64 of its shortest decimal form, so that the page's fields show 0.3, not the f32's
+/// exact 0.30000001192092896.
+fn shortest(x: f32) -> f64 {
+    x.to_string().parse().unwrap_or(x as f64)
 }
 
 fn scene_info(view: &View, scene: &Scene) -> serde_json::Value {

@@ -26,6 +26,8 @@ pub const CAMERA_KEYS: &[&str] = &[
     "fov_axis",
     "half_width",
     "near_clip",
+    "aperture_radius",
+    "focus_distance",
     "width",
     "height",
 ];

@@ -164,6 +164,14 @@ pub struct CameraDesc {
     /// Nothing nearer than this distance along the view axis is seen.
     #[serde(default, skip_serializing_if = "is_default")]
     pub near_clip: f32,
+    /// The radius of a thin lens's aperture in scene units (Mitsuba's `thinlens`
+    /// `aperture_radius`, pbrt's `lensradius`); 0, the default, is a pinhole.
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub aperture_radius: f32,
+    /// The distance along the view axis from the lens to the plane in focus; by default the
+    /// distance from `eye` to `look_at`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focus_distance: Option<f32>,
     #[serde(default = "default_width")]
     pub width: u32,
     #[serde(default = "default_height")]
@@ -242,9 +250,21 @@ impl Default for CameraDesc {
             fov_axis: FovAxis::default(),
             half_width: None,
             near_clip: 0.0,
+            aperture_radius: 0.0,
+            focus_distance: None,
             width: default_width(),
             height: default_height(),
         }
+    }
+}
+
+impl CameraDesc {
+    /// The distance to the plane in focus: `focus_distance`, or the distance from `eye` to
+    /// `look_at`.
+    pub fn focus_distance(&self) -> f32 {
+        self.focus_distance.unwrap_or_else(|| {
+            (glam::Vec3::from(self.look_at) - glam::Vec3::from(self.eye)).length()
+        })
     }
 }
 

@@ -355,6 +355,23 @@ fn camera(c: &mut Checker, d: &Description) -> Check {
             ),
         );
     }
+    if !(cam.aperture_radius >= 0.0 && cam.aperture_radius.is_finite()) {
+        return c.fail(
+            "aperture_radius",
+            format!(
+                "`aperture_radius` must be 0 (a pinhole) or a positive number of scene units, got {}",
+                cam.aperture_radius
+            ),
+        );
+    }
+    if let Some(f) = cam.focus_distance {
+        if !(f > 0.0 && f.is_finite()) {
+            return c.fail(
+                "focus_distance",
+                format!("`focus_distance` must be a positive distance, got {f}"),
+            );
+        }
+    }
     for (k, v) in [("width", cam.width), ("height", cam.height)] {
         if v == 0 || v > MAX_DIMENSION {
             return c.fail(

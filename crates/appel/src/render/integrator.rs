@@ -85,18 +85,38 @@ pub trait Integrator: Sync + Sized {
     }
 }
 
-/// The current sample's film position in pixel `(x, y)` (its first two dimensions) and the
-/// camera ray through it.
-#[inline]
-pub fn camera_ray<S: Sampler>(scene: &Scene, x: u32, y: u32, sampler: &mut S) -> (Vec2, Ray) {
-    let pos = Vec2::new(x as f32, y as f32) + sampler.get_2d();
-    (pos, scene.camera.ray(pos.x, pos.y))
+/// A sample's camera ray and where on the film it was taken.
+#[derive(Clone, Copy, Debug)]
+pub struct CameraRay {
+    /// The film position in pixels.
+    pub pos: Vec2,
+    pub ray: Ray,
+    /// Whether the ray is the one through the pixel's centre and the lens's centre: the ray
+    /// whose first hit the pixel's AOVs describe.
+    pub centre: bool,
 }
 
-/// Whether a film position is the centre of pixel `(x, y)`.
+/// The current sample's film position in pixel `(x, y)` (its first two dimensions), the lens
+/// point (the next two, drawn only by a camera with an aperture) and the camera ray through
+/// them.
 #[inline]
-pub fn is_pixel_centre(pos: Vec2, x: u32, y: u32) -> bool {
-    pos == Vec2::new(x as f32 + 0.5, y as f32 + 0.5)
+pub fn camera_ray<S: Sampler>(scene: &Scene, x: u32, y: u32, sampler: &mut S) -> CameraRay {
+    let pos = Vec2::new(x as f32, y as f32) + sampler.get_2d();
+    let at_centre = pos == Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+    let camera = &scene.camera;
+    if camera.has_lens() {
+        let lens = sampler.get_lens_2d();
+        return CameraRay {
+            pos,
+            ray: camera.ray_through_lens(pos.x, pos.y, lens),
+            centre: at_centre && lens == Vec2::splat(0.5),
+        };
+    }
+    CameraRay {
+        pos,
+        ray: camera.ray(pos.x, pos.y),
+        centre: at_centre,
+    }
 }
 
 /// A closest hit with its surface, computed once: the renderer needs the surface for the AOVs of the
@@ -132,7 +152,7 @@ pub fn aov_of(scene: &Scene, hit: Option<&SurfaceHit>) -> PixelAov {
     })
 }
 
-/// The AOVs of the ray through the centre of pixel `(x, y)`, traced for them alone (integrators
+/// The AOVs of the ray through the centre of pixel `(x, y)` (and of the lens), traced for them alone (integrators
 /// whose samples are not at the centre, or which pass through cut-outs).
 pub fn centre_aov(scene: &Scene, x: u32, y: u32, ctx: &mut TraceContext) -> PixelAov {
     let ray = scene.camera.pixel_ray(x, y);

@@ -4,7 +4,7 @@
 //! directly; 2: direct light; -1: unlimited) and of `rr_depth`. The `direct` integrator is the same
 //! estimator stopped after direct light.
 
-use super::integrator::{camera_ray, centre_aov, FilmSample, Integrator, SurfaceHit};
+use super::integrator::{camera_ray, centre_aov, CameraRay, FilmSample, Integrator, SurfaceHit};
 use super::sampler::Sampler;
 use super::{PixelAov, TraceContext};
 use crate::error::Result;
@@ -86,7 +86,7 @@ impl Integrator for PathTracer {
         aov: Option<&mut PixelAov>,
         ctx: &mut TraceContext,
     ) -> FilmSample {
-        let (pos, ray) = camera_ray(scene, x, y, sampler);
+        let CameraRay { pos, ray, .. } = camera_ray(scene, x, y, sampler);
         ctx.rays.camera += 1;
         // The AOVs describe the pixel centre (as opaque surfaces): one more camera ray per pixel.
         if let Some(aov) = aov {

@@ -9,7 +9,7 @@
 //! `environment.background` is its sky and `environment.ambient` its ambient light.
 
 use super::integrator::{
-    aov_of, camera_ray, centre_aov, is_pixel_centre, surface_hit, FilmSample, Integrator, PixelRow,
+    aov_of, camera_ray, centre_aov, surface_hit, CameraRay, FilmSample, Integrator, PixelRow,
     SurfaceHit,
 };
 use super::optics::{fresnel_dielectric, reflect, refract};
@@ -117,10 +117,10 @@ fn sample_first_hit<T: ShadeFirstHit, S: Sampler>(
     aov: Option<&mut PixelAov>,
     ctx: &mut TraceContext,
 ) -> FilmSample {
-    let (pos, ray) = camera_ray(scene, x, y, sampler);
+    let c = camera_ray(scene, x, y, sampler);
     ctx.rays.camera += 1;
-    let hit = scene.intersect(&ray, f32::INFINITY, &mut ctx.traversal);
-    shade_camera_hit(integrator, scene, x, y, pos, &ray, hit, aov, ctx)
+    let hit = scene.intersect(&c.ray, f32::INFINITY, &mut ctx.traversal);
+    shade_camera_hit(integrator, scene, x, y, &c, hit, aov, ctx)
 }
 
 /// The camera rays of a row's samples intersected together (in packets where the structure has
@@ -137,14 +137,14 @@ fn sample_row_first_hit<T: ShadeFirstHit, S: Sampler>(
     for (c, out) in out.chunks_mut(ROW_CHUNK).enumerate() {
         let n = out.len();
         let x0 = row.x0 + (c * ROW_CHUNK) as u32;
-        let mut pos = [Vec2::ZERO; ROW_CHUNK];
+        let mut film = [(Vec2::ZERO, false); ROW_CHUNK];
         let rays: [Ray; ROW_CHUNK] = std::array::from_fn(|i| {
             // Past the row's end, copies of its last ray (never traced).
             let x = x0 + i.min(n - 1) as u32;
             sampler.start_pixel_sample(x, row.y, row.index);
-            let (p, ray) = camera_ray(scene, x, row.y, sampler);
-            pos[i] = p;
-            ray
+            let c = camera_ray(scene, x, row.y, sampler);
+            film[i] = (c.pos, c.centre);
+            c.ray
         });
         let mut hits = [None; ROW_CHUNK];
         scene.intersect_coherent(
@@ -161,8 +161,11 @@ fn sample_row_first_hit<T: ShadeFirstHit, S: Sampler>(
                 scene,
                 x0 + i as u32,
                 row.y,
-                pos[i],
-                &rays[i],
+                &CameraRay {
+                    pos: film[i].0,
+                    ray: rays[i],
+                    centre: film[i].1,
+                },
                 hits[i],
                 aov,
                 ctx,
@@ -178,8 +181,7 @@ fn shade_camera_hit<T: ShadeFirstHit>(
     scene: &Scene,
     x: u32,
     y: u32,
-    pos: Vec2,
-    ray: &Ray,
+    c: &CameraRay,
     hit: Option<SceneHit>,
     aov: Option<&mut PixelAov>,
     ctx: &mut TraceContext,
@@ -187,10 +189,10 @@ fn shade_camera_hit<T: ShadeFirstHit>(
     // The surface built where it is read, not moved into an `Option` (see `Whitted::spawn`).
     match hit {
         Some(h) => {
-            let h = surface_hit(scene, ray, h);
-            shade_camera_surface(integrator, scene, x, y, pos, ray, Some(&h), aov, ctx)
+            let h = surface_hit(scene, &c.ray, h);
+            shade_camera_surface(integrator, scene, x, y, c, Some(&h), aov, ctx)
         }
-        None => shade_camera_surface(integrator, scene, x, y, pos, ray, None, aov, ctx),
+        None => shade_camera_surface(integrator, scene, x, y, c, None, aov, ctx),
     }
 }
 
@@ -202,23 +204,23 @@ fn shade_camera_surface<T: ShadeFirstHit>(
     scene: &Scene,
     x: u32,
     y: u32,
-    pos: Vec2,
-    ray: &Ray,
+    c: &CameraRay,
     hit: Option<&SurfaceHit>,
     aov: Option<&mut PixelAov>,
     ctx: &mut TraceContext,
 ) -> FilmSample {
     if let Some(aov) = aov {
-        // The AOVs describe the pixel centre: this ray's hit when the sample is there.
-        *aov = if is_pixel_centre(pos, x, y) {
+        // The AOVs describe the ray through the pixel's centre (and the lens's): this ray's hit
+        // when it is that one.
+        *aov = if c.centre {
             aov_of(scene, hit)
         } else {
             centre_aov(scene, x, y, ctx)
         };
     }
     FilmSample {
-        pos,
-        radiance: integrator.radiance(scene, ray, hit, ctx),
+        pos: c.pos,
+        radiance: integrator.radiance(scene, &c.ray, hit, ctx),
     }
 }
 

@@ -1,5 +1,6 @@
 use crate::description::{CameraDesc, CameraKind, FovAxis};
-use crate::math::{Ray, Vec3};
+use crate::math::{Ray, Vec2, Vec3};
+use crate::shading::bsdf::warp::square_to_uniform_disk_concentric;
 
 /// A pinhole or orthographic camera with Appel's exact pixel convention (README, "Camera"): for
 /// pixel column `i` (0 at the left) and row `j` (0 at the top) of a `W x H` image,
@@ -8,6 +9,11 @@ use crate::math::{Ray, Vec3};
 /// `fov_axis` choices become the equivalent vertical `tan(fov/2)`, so that the expression (and its
 /// rounding) stays the same. An orthographic camera puts the origin at `eye + u right + v true_up`
 /// with `tan(fov/2)` replaced by `half_width H/W`, and looks along `forward`.
+///
+/// With an aperture (`lens_radius > 0`) either kind is a thin lens (pbrt-v4 section 5.2.3,
+/// Mitsuba 3's `thinlens`): [`Camera::ray_through_lens`] starts the ray at a point of the lens
+/// disk, in the plane through `eye` facing `forward`, and aims it at the point where the pinhole
+/// ray meets the plane in focus, `focus_distance` along the view axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     pub kind: CameraKind,
@@ -19,6 +25,10 @@ pub struct Camera {
     pub tan_half_fov: f32,
     /// Rays start this far along the view axis.
     pub near_clip: f32,
+    /// The radius of the lens's aperture in scene units: 0 is a pinhole.
+    pub lens_radius: f32,
+    /// The distance along the view axis from the lens to the plane in focus.
+    pub focus_distance: f32,
     pub width: u32,
     pub height: u32,
 }
@@ -64,6 +74,8 @@ impl Camera {
             true_up,
             tan_half_fov,
             near_clip: d.near_clip,
+            lens_radius: d.aperture_radius,
+            focus_distance: d.focus_distance(),
             width: d.width,
             height: d.height,
         }
@@ -73,10 +85,7 @@ impl Camera {
     /// `(i + 0.5, j + 0.5)`.
     #[inline(always)]
     pub fn ray(&self, x: f32, y: f32) -> Ray {
-        let (w, h) = (self.width as f32, self.height as f32);
-        let t = self.tan_half_fov;
-        let u = (2.0 * x / w - 1.0) * t * w / h;
-        let v = (1.0 - 2.0 * y / h) * t;
+        let (u, v) = self.film_uv(x, y);
         match self.kind {
             CameraKind::Perspective => {
                 let dir = (self.forward + u * self.right + v * self.true_up).normalize();
@@ -91,6 +100,61 @@ impl Camera {
                 self.forward,
             ),
         }
+    }
+
+    /// The film position `(x, y)` in pixels as `(u, v)`, the coordinates along `right` and
+    /// `true_up` on the image plane at unit distance (orthographic: scene units across the view
+    /// rectangle at `eye`).
+    #[inline(always)]
+    fn film_uv(&self, x: f32, y: f32) -> (f32, f32) {
+        let (w, h) = (self.width as f32, self.height as f32);
+        let t = self.tan_half_fov;
+        let u = (2.0 * x / w - 1.0) * t * w / h;
+        let v = (1.0 - 2.0 * y / h) * t;
+        (u, v)
+    }
+
+    /// Whether the camera has a lens of non-zero aperture, whose rays need a lens sample.
+    #[inline(always)]
+    pub fn has_lens(&self) -> bool {
+        self.lens_radius > 0.0
+    }
+
+    /// The ray through film position `(x, y)` from the lens point that `lens` (uniform in
+    /// `[0, 1)^2`) picks by Shirley and Chiu's concentric map, as pbrt-v4 (section 5.2.3) and
+    /// Mitsuba's `thinlens` sample it. It is aimed at the point where the pinhole ray through
+    /// `(x, y)` meets the plane in focus, so that everything on that plane is sharp and a point
+    /// at another depth `d` blurs into a disk of radius `R |d - f| / (f d)` on the image plane at
+    /// unit distance (`R` the lens radius, `f` the focus distance). The lens centre,
+    /// `lens = (0.5, 0.5)`, gives [`Camera::ray`] exactly.
+    #[inline]
+    pub fn ray_through_lens(&self, x: f32, y: f32, lens: Vec2) -> Ray {
+        let p = square_to_uniform_disk_concentric(lens) * self.lens_radius;
+        if p == Vec2::ZERO {
+            return self.ray(x, y);
+        }
+        let (u, v) = self.film_uv(x, y);
+        let offset = p.x * self.right + p.y * self.true_up;
+        let f = self.focus_distance;
+        let (start, dir) = match self.kind {
+            CameraKind::Perspective => {
+                // The pinhole ray's unnormalised direction has a `forward` component of 1, so
+                // `f` times it reaches the plane in focus.
+                let focus = f * (self.forward + u * self.right + v * self.true_up);
+                (self.eye + offset, (focus - offset).normalize())
+            }
+            CameraKind::Orthographic => {
+                let film = self.eye + u * self.right + v * self.true_up;
+                (film + offset, (f * self.forward - offset).normalize())
+            }
+        };
+        // The near plane is `near_clip` ahead of the lens along the view axis, as in Mitsuba.
+        let origin = if self.near_clip > 0.0 {
+            start + dir * (self.near_clip / dir.dot(self.forward))
+        } else {
+            start
+        };
+        Ray::new(origin, dir)
     }
 
     /// The ray through the centre of pixel `(i, j)`.
@@ -168,6 +232,76 @@ mod tests {
         assert!(close(small, 30.0), "{small}");
         let (large, _, _) = at(FovAxis::Larger, 200, 100);
         assert!(close(large, 30.0), "{large}");
+    }
+
+    /// Every lens ray through a film position meets the pinhole ray on the plane in focus;
+    /// the lens's centre gives the pinhole ray itself; lens points cover the aperture.
+    #[test]
+    fn lens_rays_meet_on_the_plane_in_focus() {
+        for kind in [CameraKind::Perspective, CameraKind::Orthographic] {
+            let c = Camera::new(&CameraDesc {
+                kind,
+                eye: [1.0, 2.0, 3.0],
+                look_at: [2.0, 1.0, -1.0],
+                up: [0.0, 1.0, 0.0],
+                fov: 50.0,
+                half_width: Some(2.0),
+                near_clip: 0.5,
+                aperture_radius: 0.3,
+                focus_distance: Some(4.0),
+                width: 40,
+                height: 30,
+                ..CameraDesc::default()
+            });
+            assert!(c.has_lens());
+            for (x, y) in [(20.0, 15.0), (0.0, 0.0), (33.3, 7.1)] {
+                let pinhole = c.ray(x, y);
+                assert_eq!(c.ray_through_lens(x, y, Vec2::splat(0.5)), pinhole);
+                // Where the pinhole ray crosses the plane in focus.
+                let t =
+                    (4.0 - (pinhole.origin - c.eye).dot(c.forward)) / pinhole.dir.dot(c.forward);
+                let focus = pinhole.origin + t * pinhole.dir;
+                let mut farthest = 0.0f32;
+                for (i, j) in (0..8).flat_map(|i| (0..8).map(move |j| (i, j))) {
+                    let u = Vec2::new((i as f32 + 0.5) / 8.0, (j as f32 + 0.5) / 8.0);
+                    let r = c.ray_through_lens(x, y, u);
+                    assert!((r.dir.length() - 1.0).abs() < 1e-6);
+                    // It starts on the near plane...
+                    let depth = (r.origin - c.eye).dot(c.forward);
+                    assert!(
+                        (depth - 0.5).abs() < 1e-5,
+                        "{kind:?}: near plane at {depth}"
+                    );
+                    // ...from a point of the lens disk...
+                    let lens = r.origin - r.dir * (depth / r.dir.dot(c.forward));
+                    let off = lens
+                        - if kind == CameraKind::Perspective {
+                            c.eye
+                        } else {
+                            pinhole.origin - 0.5 * c.forward
+                        };
+                    assert!(off.dot(c.forward).abs() < 1e-5 && off.length() <= 0.3 + 1e-5);
+                    farthest = farthest.max(off.length());
+                    // ...through the pinhole ray's point on the plane in focus.
+                    let s = (4.0 - depth) / r.dir.dot(c.forward);
+                    let miss = (r.origin + s * r.dir - focus).length();
+                    assert!(miss < 1e-5, "{kind:?} ({x}, {y}): {miss}");
+                }
+                assert!(farthest > 0.25, "{farthest}");
+            }
+        }
+    }
+
+    #[test]
+    fn no_aperture_is_no_lens_and_focus_defaults_to_the_target() {
+        let d = CameraDesc {
+            eye: [0.0, 0.0, 5.0],
+            look_at: [0.0, 3.0, 1.0],
+            ..CameraDesc::default()
+        };
+        let c = Camera::new(&d);
+        assert!(!c.has_lens());
+        assert_eq!(c.focus_distance, 5.0);
     }
 
     #[test]

@@ -87,6 +87,8 @@
     fill("aov", m.aovs, "color");
     fill("format", m.formats, m.format);
     $("spp").value = m.spp;
+    $("aperture_radius").value = m.aperture_radius;
+    $("focus_distance").value = m.focus_distance;
     const size = `${m.width}x${m.height}`;
     if (![...$("size").options].some((o) => o.value === size)) { const o = document.createElement("option"); o.textContent = size; $("size").appendChild(o); }
     $("size").value = size;
@@ -131,14 +133,23 @@
   });
   $("anim_frame").addEventListener("input", () => send({ type: "seek", frame: Number($("anim_frame").value) }));
 
-  for (const id of ["integrator", "preview", "accel", "aov", "format", "spp", "size", "preview_scale"]) {
+  for (const id of ["integrator", "preview", "accel", "aov", "format", "spp", "size", "preview_scale", "aperture_radius", "focus_distance"]) {
     $(id).addEventListener("change", () => {
       const [w, h] = $("size").value.split("x").map(Number);
       canvas.width = w; canvas.height = h;
       send({ type: "settings", integrator: $("integrator").value, preview: $("preview").value, accel: $("accel").value,
         aov: $("aov").value, format: $("format").value, spp: Math.max(1, Number($("spp").value) | 0), width: w, height: h,
-        preview_scale: Number($("preview_scale").value) });
+        preview_scale: Number($("preview_scale").value), ...lens() });
     });
+  }
+
+  // The lens's fields, those that hold a valid number (the server checks them too).
+  function lens() {
+    const out = {};
+    const r = Number($("aperture_radius").value), f = Number($("focus_distance").value);
+    if ($("aperture_radius").value !== "" && r >= 0) out.aperture_radius = r;
+    if ($("focus_distance").value !== "" && f > 0) out.focus_distance = f;
+    return out;
   }
 
   // Orbit about the target (yaw about the up axis, pitch about the right axis), pan, zoom.

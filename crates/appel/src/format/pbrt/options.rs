@@ -23,6 +23,9 @@ struct Camera {
     kind: CameraKind,
     /// Degrees, across the shorter image axis (perspective).
     fov: f64,
+    /// `lensradius` and `focaldistance`, in camera space.
+    lens_radius: f64,
+    focal_distance: f64,
     camera_to_world: DMat4,
     loc: Loc,
 }
@@ -51,13 +54,21 @@ impl SceneOptions {
             let at = p.get("fov").map_or(&d.loc, |p| &p.loc);
             return Err(at.error(format!("the field of view must be in (0, 180), got {fov}")));
         }
-        if let Some(r) = p.float("lensradius")? {
-            if r > 0.0 {
-                let at = &p.get("lensradius").expect("read").loc;
-                return Err(at.error("depth of field (lensradius > 0) is not supported"));
-            }
+        // pbrt-v4's thin lens (section 5.2.3), on both projective cameras, with its defaults.
+        let lens_radius = p.float_or("lensradius", 0.0)?;
+        if !(lens_radius >= 0.0 && lens_radius.is_finite()) {
+            let at = &p.get("lensradius").expect("read").loc;
+            return Err(at.error(format!(
+                "\"lensradius\" must be 0 (a pinhole) or positive, got {lens_radius}"
+            )));
         }
-        p.ignore("focaldistance");
+        let focal_distance = p.float_or("focaldistance", 1e6)?;
+        if !(focal_distance > 0.0 && focal_distance.is_finite()) {
+            let at = &p.get("focaldistance").expect("read").loc;
+            return Err(at.error(format!(
+                "\"focaldistance\" must be a positive distance, got {focal_distance}"
+            )));
+        }
         for unsupported in ["screenwindow", "frameaspectratio"] {
             if let Some(q) = p.get(unsupported) {
                 return Err(q.error(format!("\"{unsupported}\" is not supported")));
@@ -69,6 +80,8 @@ impl SceneOptions {
         self.camera = Some(Camera {
             kind,
             fov,
+            lens_radius,
+            focal_distance,
             camera_to_world: ctm.inverse(),
             loc: d.loc.clone(),
         });
@@ -269,6 +282,15 @@ impl SceneOptions {
             .camera
             .as_ref()
             .map_or((CameraKind::Perspective, 90.0), |c| (c.kind, c.fov));
+        // The lens lies in camera space: its radius and focal distance scale with the camera
+        // transform's axes (a mirror keeps them).
+        let (aperture_radius, focus_distance) = match &self.camera {
+            Some(c) if c.lens_radius > 0.0 => (
+                (c.lens_radius * m.transform_vector3(DVec3::X).length()) as f32,
+                Some((c.focal_distance * forward.length()) as f32),
+            ),
+            _ => (0.0, None),
+        };
         // pbrt's orthographic screen window spans [-1, 1] across the shorter axis.
         let aspect = width as f64 / height as f64;
         let half_width = (kind == CameraKind::Orthographic)
@@ -282,6 +304,8 @@ impl SceneOptions {
             fov_axis: FovAxis::Smaller,
             half_width,
             near_clip: 0.0,
+            aperture_radius,
+            focus_distance,
             width,
             height,
         };

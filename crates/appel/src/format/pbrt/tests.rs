@@ -340,3 +340,84 @@ fn an_infinite_light_image_is_an_equal_area_map() {
     let up = m.transform_vector3(glam::Vec3::Z);
     assert!((up - glam::Vec3::Y).length() < 1e-5, "{up}");
 }
+
+/// pbrt-v4's thin lens: `lensradius` and `focaldistance` (default 10^6) become the camera's
+/// aperture and focus distance; without a lens there is no focus distance to keep; bad values
+/// fail at their parameter's line.
+#[test]
+fn lens_parameters_make_a_thin_lens() {
+    let camera = |params: &str| {
+        format!(
+            "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\n\
+             {params}\nWorldBegin\n"
+        )
+    };
+    let d = load(&camera(
+        "\"float lensradius\" 0.1 \"float focaldistance\" 4",
+    ))
+    .unwrap()
+    .description;
+    assert_eq!(
+        (d.camera.aperture_radius, d.camera.focus_distance),
+        (0.1, Some(4.0))
+    );
+    let d = load(&camera("\"float lensradius\" 0.2"))
+        .unwrap()
+        .description;
+    assert_eq!(
+        (d.camera.aperture_radius, d.camera.focus_distance),
+        (0.2, Some(1e6))
+    );
+    let s = load(&camera("\"float focaldistance\" 3")).unwrap();
+    assert_eq!(
+        (
+            s.description.camera.aperture_radius,
+            s.description.camera.focus_distance
+        ),
+        (0.0, None)
+    );
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    // A uniform scale in the camera transform scales the lens with the scene, as in pbrt.
+    let d = load(
+        "Scale -2 2 2\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float lensradius\" 0.1 \
+         \"float focaldistance\" 4\nWorldBegin\n",
+    )
+    .unwrap()
+    .description;
+    let close = |a: f32, b: f32| (a - b).abs() < 1e-6;
+    assert!(close(d.camera.aperture_radius, 0.05), "{:?}", d.camera);
+    assert!(
+        close(d.camera.focus_distance.unwrap(), 2.0),
+        "{:?}",
+        d.camera
+    );
+    // The orthographic camera has the same lens.
+    let d = load(
+        "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\" \"float lensradius\" \
+         0.5 \"float focaldistance\" 2\nWorldBegin\n",
+    )
+    .unwrap()
+    .description;
+    assert_eq!(d.camera.kind, CameraKind::Orthographic);
+    assert_eq!(
+        (d.camera.aperture_radius, d.camera.focus_distance),
+        (0.5, Some(2.0))
+    );
+    for (params, expected) in [
+        (
+            "\"float lensradius\" -0.1",
+            "a.pbrt:4:1: \"lensradius\" must be 0 (a pinhole) or positive, got -0.1",
+        ),
+        (
+            "\"float lensradius\" 0.1 \"float focaldistance\" 0",
+            "a.pbrt:4:24: \"focaldistance\" must be a positive distance, got 0",
+        ),
+        (
+            "\"float focaldistance\" -2",
+            "a.pbrt:4:1: \"focaldistance\" must be a positive distance, got -2",
+        ),
+    ] {
+        let e = err(&camera(params));
+        assert!(e.ends_with(expected), "expected {expected}\n     got {e}");
+    }
+}

@@ -24,6 +24,14 @@ pub trait Sampler: Clone + Send + Sync {
     /// The next two dimensions, uniform in `[0, 1)^2` (stratified together by low-discrepancy
     /// samplers).
     fn get_2d(&mut self) -> Vec2;
+    /// The point on a camera's lens, drawn right after the film position by cameras with an
+    /// aperture only (pbrt-v4's `GetCameraSample` and Mitsuba's sample order: film, then
+    /// aperture), so that a pinhole camera's samples use the dimensions they always did. The next
+    /// two dimensions, unless the sampler places lens points itself.
+    #[inline]
+    fn get_lens_2d(&mut self) -> Vec2 {
+        self.get_2d()
+    }
 }
 
 /// `u` in `[0, 1)` from 32 random bits: the top 24 bits, so that the result is exactly

@@ -2,7 +2,9 @@
 //! per pixel is exactly the ray through the centre, the convention of raycast and Whitted, whose
 //! AOVs then describe the centre), the rest on the R2 low-discrepancy sequence (Roberts 2018).
 //! Dimensions after the film position are independent numbers (PCG32), so that a Monte Carlo
-//! integrator may run on it too.
+//! integrator may run on it too. A lens point is one of them too, except in sample 0, which
+//! passes through the lens's centre: one sample per pixel through a lens is the pinhole image
+//! (and its AOVs describe it), more samples cover the aperture.
 
 use super::{IndependentSampler, Sampler};
 use crate::math::Vec2;
@@ -82,6 +84,15 @@ impl Sampler for PixelPatternSampler {
             };
         }
         self.rest().get_2d()
+    }
+
+    /// Sample 0 through the lens's centre, which the concentric map puts at `(0.5, 0.5)`.
+    #[inline]
+    fn get_lens_2d(&mut self) -> Vec2 {
+        if self.index == 0 {
+            return Vec2::splat(0.5);
+        }
+        self.get_2d()
     }
 }
 

@@ -147,14 +147,55 @@ impl Converter<'_> {
         Ok(absolute(&found).to_string_lossy().into_owned())
     }
 
+    /// The aperture and plane in focus of a `thinlens` sensor, as Mitsuba's `thinlens` reads
+    /// them: `aperture_radius` required, `focus_distance` defaulting to `far_clip`, and no scale
+    /// in `to_world` (whose `axes` are the transform's columns), which would make the aperture's
+    /// size ambiguous.
+    fn thin_lens(
+        &self,
+        s: &Object,
+        camera: &mut CameraDesc,
+        far_clip: f64,
+        axes: [DVec3; 3],
+    ) -> Result<()> {
+        let radius = s
+            .float("aperture_radius")?
+            .ok_or_else(|| s.error("a thinlens sensor needs <float name=\"aperture_radius\">"))?;
+        if !(radius >= 0.0 && radius.is_finite()) {
+            let p = s.prop("aperture_radius").expect("read above");
+            return Err(p.error(format!(
+                "aperture_radius must be 0 (a pinhole) or a positive number of scene units, got \
+                 {radius}"
+            )));
+        }
+        let focus = s.float_or("focus_distance", far_clip)?;
+        if !(focus > 0.0 && focus.is_finite()) {
+            let at = s.prop("focus_distance").or(s.prop("far_clip"));
+            let message = format!("focus_distance must be a positive distance, got {focus}");
+            return Err(at.map_or_else(|| s.error(&message), |p| p.error(&message)));
+        }
+        if axes.iter().any(|a| (a.length() - 1.0).abs() > 1e-3) {
+            let p = s.prop("to_world").expect("a scale needs a transform");
+            return Err(p.error(
+                "a thinlens camera's transform must not scale (as in Mitsuba): the aperture and \
+                 focus distance are in scene units",
+            ));
+        }
+        camera.aperture_radius = radius as f32;
+        camera.focus_distance = Some(focus as f32);
+        Ok(())
+    }
+
     /// The camera of a `<sensor>`, with its film and sampler written into `render`.
     fn sensor(&mut self, s: &Object, render: &mut RenderDesc) -> Result<CameraDesc> {
         let kind = match s.plugin.as_str() {
-            "perspective" => CameraKind::Perspective,
+            // A thin lens is a perspective camera with an aperture.
+            "perspective" | "thinlens" => CameraKind::Perspective,
             "orthographic" => CameraKind::Orthographic,
             p => {
                 return Err(s.error(format!(
-                    "unsupported sensor plugin \"{p}\" (supported: perspective, orthographic)"
+                    "unsupported sensor plugin \"{p}\" (supported: perspective, thinlens, \
+                     orthographic)"
                 )))
             }
         };
@@ -176,7 +217,13 @@ impl Converter<'_> {
             ..CameraDesc::default()
         };
         camera.near_clip = s.float_or("near_clip", 0.01)? as f32;
-        s.float("far_clip")?;
+        let far_clip = s.float_or("far_clip", 1e4)?;
+        if s.plugin == "thinlens" {
+            self.thin_lens(s, &mut camera, far_clip, [x, y, z])?;
+        } else {
+            // Every projective sensor of Mitsuba reads it; only the thin lens uses it.
+            s.float("focus_distance")?;
+        }
         match kind {
             CameraKind::Perspective => {
                 let (fov, axis) = match s.float("fov")? {

@@ -616,3 +616,71 @@ fn a_non_positive_index_of_refraction_is_an_error_at_its_line() {
         "{e}"
     );
 }
+
+/// Mitsuba's `thinlens`: a perspective camera with `aperture_radius` (required) and
+/// `focus_distance` (by default `far_clip`); `perspective` reads `focus_distance` and ignores it;
+/// bad values, a missing radius and a scaling transform are errors at their line.
+#[test]
+fn thinlens_sensors_have_an_aperture_and_a_plane_in_focus() {
+    let scene = |sensor: &str| {
+        format!("<scene version=\"3.0.0\">\n{sensor}\n<shape type=\"sphere\"/>\n</scene>")
+    };
+    let convert = |sensor: &str| {
+        let doc = document_from_str(
+            &scene(sensor),
+            Path::new("scene.xml"),
+            &XmlOptions::default(),
+        )
+        .unwrap();
+        super::convert(&doc).unwrap()
+    };
+    let d = convert(
+        "<sensor type=\"thinlens\">\n  <float name=\"fov\" value=\"40\"/>\n  \
+         <float name=\"aperture_radius\" value=\"0.2\"/>\n  \
+         <float name=\"focus_distance\" value=\"3\"/>\n  <transform name=\"to_world\">\
+         <lookat origin=\"0, 0, 5\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform>\n</sensor>",
+    );
+    let c = &d.camera;
+    assert_eq!(c.kind, CameraKind::Perspective);
+    assert_eq!((c.aperture_radius, c.focus_distance), (0.2, Some(3.0)));
+    assert_eq!(
+        (c.fov, c.fov_axis, c.eye),
+        (40.0, FovAxis::X, [0.0, 0.0, 5.0])
+    );
+    let d = convert(
+        "<sensor type=\"thinlens\">\n  <float name=\"aperture_radius\" value=\"0.5\"/>\n  \
+         <float name=\"far_clip\" value=\"50\"/>\n</sensor>",
+    );
+    assert_eq!(
+        (d.camera.aperture_radius, d.camera.focus_distance),
+        (0.5, Some(50.0))
+    );
+    let d = convert(
+        "<sensor type=\"perspective\">\n  <float name=\"focus_distance\" value=\"3\"/>\n</sensor>",
+    );
+    assert_eq!(
+        (d.camera.aperture_radius, d.camera.focus_distance),
+        (0.0, None)
+    );
+    for (sensor, expected) in [
+        (
+            "<sensor type=\"thinlens\">\n  <float name=\"aperture_radius\" value=\"-1\"/>\n</sensor>",
+            "scene.xml:3:3: <float name=\"aperture_radius\">: aperture_radius must be 0 (a pinhole) or a positive number of scene units, got -1",
+        ),
+        (
+            "<sensor type=\"thinlens\">\n  <float name=\"aperture_radius\" value=\"0.1\"/>\n  <float name=\"focus_distance\" value=\"0\"/>\n</sensor>",
+            "scene.xml:4:3: <float name=\"focus_distance\">: focus_distance must be a positive distance, got 0",
+        ),
+        (
+            "<sensor type=\"thinlens\">\n  <float name=\"fov\" value=\"40\"/>\n</sensor>",
+            "scene.xml:2:1: <sensor type=\"thinlens\">: a thinlens sensor needs <float name=\"aperture_radius\">",
+        ),
+        (
+            "<sensor type=\"thinlens\">\n  <float name=\"aperture_radius\" value=\"0.1\"/>\n  <transform name=\"to_world\"><scale value=\"2\"/></transform>\n</sensor>",
+            "scene.xml:4:3: <transform name=\"to_world\">: a thinlens camera's transform must not scale",
+        ),
+    ] {
+        let e = err(&scene(sensor));
+        assert!(e.starts_with(expected), "expected {expected}\n     got {e}");
+    }
+}
