@@ -413,7 +413,7 @@ impl Whitted {
         for (i, o) in out.iter_mut().enumerate() {
             let x = row.x0 + i as u32;
             sampler.start_pixel_sample(x, row.y, row.index);
-            let (pos, ray) = camera_ray(scene, x, row.y, sampler);
+            let CameraRay { pos, ray, .. } = camera_ray(scene, x, row.y, sampler);
             o.pos = pos;
             w.nodes.push(TreeRay::new(ray, 0));
             w.rays.push(ray);
