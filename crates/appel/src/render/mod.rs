@@ -18,7 +18,7 @@ mod whitted;
 mod window;
 
 pub use film::{Channel, Film, PixelAov, MISS_ID};
-pub use integrator::{surface_hit, FilmSample, Integrator, PixelRow, SurfaceHit};
+pub use integrator::{surface_hit, FilmSample, Integrator, PixelIntegrator, PixelRow, SurfaceHit};
 pub use whitted::{local_shading, Raycast, Whitted};
 pub use window::Window;
 
@@ -139,7 +139,7 @@ macro_rules! define_integrator_dispatch {
 crate::description::for_each_integrator!(define_integrator_dispatch);
 
 /// The render loop monomorphized for the integrator and the scene's sampler.
-pub(crate) fn with_sampler<I: Integrator>(
+pub(crate) fn with_sampler<I: integrator::PixelIntegrator>(
     scene: &Scene,
     integrator: &I,
     options: &RenderOptions,

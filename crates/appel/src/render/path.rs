@@ -4,9 +4,11 @@
 //! directly; 2: direct light; -1: unlimited) and of `rr_depth`. The `direct` integrator is the same
 //! estimator stopped after direct light.
 
-use super::integrator::{camera_ray, centre_aov, CameraRay, FilmSample, Integrator, SurfaceHit};
+use super::integrator::{
+    camera_ray, centre_aov, CameraRay, FilmSample, Integrator, PixelIntegrator, SurfaceHit,
+};
 use super::sampler::Sampler;
-use super::{PixelAov, TraceContext};
+use super::{with_sampler, Film, PixelAov, RenderOptions, RenderStats, TraceContext};
 use crate::error::Result;
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Ray, Vec3};
@@ -77,6 +79,12 @@ impl Integrator for PathTracer {
         Ok(Self::new(s.max_depth, s.rr_depth, s.hide_emitters))
     }
 
+    fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
+        with_sampler(scene, self, options)
+    }
+}
+
+impl PixelIntegrator for PathTracer {
     fn sample<S: Sampler>(
         &self,
         scene: &Scene,
