@@ -38,7 +38,7 @@ pub struct Passes {
 /// one, a first pass of one sample measures the cost of a sample, and each later pass takes what
 /// the remaining time allows at that cost, at most twice the samples done so far, so the render
 /// stops near the limit whatever a sample costs.
-fn next_pass(spp: u32, done: u32, elapsed: Duration, limit: Option<Duration>) -> u32 {
+pub(super) fn next_pass(spp: u32, done: u32, elapsed: Duration, limit: Option<Duration>) -> u32 {
     let remaining = spp - done;
     let Some(limit) = limit else {
         return remaining;
