@@ -4,9 +4,11 @@
 //! directly; 2: direct light; -1: unlimited) and of `rr_depth`. The `direct` integrator is the same
 //! estimator stopped after direct light.
 
-use super::integrator::{camera_ray, centre_aov, CameraRay, FilmSample, Integrator, SurfaceHit};
+use super::integrator::{
+    camera_ray, centre_aov, CameraRay, FilmSample, Integrator, PixelIntegrator, SurfaceHit,
+};
 use super::sampler::Sampler;
-use super::{PixelAov, TraceContext};
+use super::{with_sampler, Film, PixelAov, RenderOptions, RenderStats, TraceContext};
 use crate::error::Result;
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Ray, Vec3};
@@ -17,11 +19,11 @@ use crate::shading::material::{Material, SurfacePoint};
 
 /// Shadow rays stop this fraction short of the sampled light point, so that the light's own
 /// surface does not occlude it (relative to the segment: scale-free).
-const SHADOW_EPSILON: f32 = 1e-4;
+pub(super) const SHADOW_EPSILON: f32 = 1e-4;
 
 /// Russian roulette keeps a path with at most this probability (Mitsuba's 0.95), so that even
 /// bright paths end eventually.
-const RR_MAX_PROBABILITY: f32 = 0.95;
+pub(super) const RR_MAX_PROBABILITY: f32 = 0.95;
 
 /// Masks passed through by one ray before it is taken as blocked (a bound, not a tuning knob: a
 /// ray crossing this many cut-outs carries nothing visible).
@@ -61,7 +63,7 @@ impl PathTracer {
 
 /// The power heuristic with exponent 2.
 #[inline]
-fn mis_weight(a: f32, b: f32) -> f32 {
+pub(super) fn mis_weight(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 {
         a2 / (a2 + b2)
@@ -77,6 +79,12 @@ impl Integrator for PathTracer {
         Ok(Self::new(s.max_depth, s.rr_depth, s.hide_emitters))
     }
 
+    fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
+        with_sampler(scene, self, options)
+    }
+}
+
+impl PixelIntegrator for PathTracer {
     fn sample<S: Sampler>(
         &self,
         scene: &Scene,
@@ -239,7 +247,7 @@ impl PathTracer {
 
 /// The emitter of the surface hit, or [`NO_EMITTER`] (instanced surfaces never emit).
 #[inline]
-fn surface_emitter(scene: &Scene, h: &SurfaceHit) -> u32 {
+pub(super) fn surface_emitter(scene: &Scene, h: &SurfaceHit) -> u32 {
     if h.hit.instance != NO_INSTANCE {
         return NO_EMITTER;
     }
@@ -254,7 +262,7 @@ fn surface_emitter(scene: &Scene, h: &SurfaceHit) -> u32 {
 /// The closest surface along `ray` that is there: a masked surface is passed through with the
 /// probability of its transparency.
 #[inline]
-fn intersect_through_masks<S: Sampler>(
+pub(super) fn intersect_through_masks<S: Sampler>(
     scene: &Scene,
     ray: &Ray,
     sampler: &mut S,
@@ -290,7 +298,7 @@ fn intersect_through_masks<S: Sampler>(
 
 /// Whether the light at distance `t_max` along `dir` is seen from `si`.
 #[inline]
-fn visible<S: Sampler>(
+pub(super) fn visible<S: Sampler>(
     scene: &Scene,
     si: &SurfaceInteraction,
     dir: Vec3,
@@ -298,8 +306,21 @@ fn visible<S: Sampler>(
     sampler: &mut S,
     ctx: &mut TraceContext,
 ) -> bool {
+    let ray = Ray::new(offset_ray_origin(si.p, si.p_error, si.n, dir), dir);
+    visible_along(scene, ray, t_max, sampler, ctx)
+}
+
+/// Whether nothing blocks `ray` before `t_max` (a shadow ray), through cut-outs stochastically.
+#[inline]
+pub(super) fn visible_along<S: Sampler>(
+    scene: &Scene,
+    mut ray: Ray,
+    t_max: f32,
+    sampler: &mut S,
+    ctx: &mut TraceContext,
+) -> bool {
     ctx.rays.shadow += 1;
-    let mut ray = Ray::new(offset_ray_origin(si.p, si.p_error, si.n, dir), dir);
+    let dir = ray.dir;
     if !scene.has_masks {
         return !scene.occluded(&ray, t_max, &mut ctx.traversal);
     }

@@ -10,7 +10,7 @@ mod queries;
 mod scene_emitters;
 
 use crate::description;
-pub use camera::Camera;
+pub use camera::{Camera, CameraConnection};
 pub use file_extras::FileExtras;
 pub use geometry::{
     Geometry, PrimRef, PrimRefs, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE,

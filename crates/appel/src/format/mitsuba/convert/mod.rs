@@ -333,16 +333,24 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
             r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
         }
+        "ptracer" => {
+            r.integrator = IntegratorName::Ptracer;
+            r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
+            r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
+            // Mitsuba's -1 (the default): everything in one pass.
+            let per_pass = i.int_in("samples_per_pass", -1..=u32::MAX as i64)?;
+            r.ptracer = Some(crate::description::PtracerParams {
+                samples_per_pass: per_pass.map_or(0, |n| n.max(0) as u32),
+            });
+        }
         "direct" => {
             r.integrator = IntegratorName::Direct;
             // Emitters seen directly, and direct light: Mitsuba's depth 2.
             r.max_depth = 2;
         }
-        p => {
-            return Err(i.error(format!(
-                "unsupported integrator plugin \"{p}\" (supported: path, direct, aov, moment)"
-            )))
-        }
+        p => return Err(i.error(format!(
+            "unsupported integrator plugin \"{p}\" (supported: path, ptracer, direct, aov, moment)"
+        ))),
     }
     r.hide_emitters = i.bool_or("hide_emitters", false)?;
     i.finish()?;
