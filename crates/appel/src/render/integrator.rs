@@ -67,21 +67,35 @@ pub trait Integrator: Sync + Sized {
         row: PixelRow,
         sampler: &mut S,
         out: &mut [FilmSample],
-        mut aovs: Option<&mut [PixelAov]>,
+        aovs: Option<&mut [PixelAov]>,
         ctx: &mut TraceContext,
     ) {
-        for (i, o) in out.iter_mut().enumerate() {
-            let x = row.x0 + i as u32;
-            sampler.start_pixel_sample(x, row.y, row.index);
-            let aov = aovs.as_deref_mut().map(|a| &mut a[i]);
-            *o = self.sample(scene, x, row.y, sampler, aov, ctx);
-        }
+        sample_row_one_by_one(self, scene, row, sampler, out, aovs, ctx)
     }
 
     /// Renders the scene: the render loop over this integrator and the scene's sampler. An
     /// integrator that wraps another, or adds images of its own, says so here.
     fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
         super::with_sampler(scene, self, options)
+    }
+}
+
+/// [`Integrator::sample_row`] as [`Integrator::sample`] of one pixel after the other (the
+/// default, and the fallback of integrators whose own row method does not apply to a scene).
+pub fn sample_row_one_by_one<I: Integrator, S: Sampler>(
+    integrator: &I,
+    scene: &Scene,
+    row: PixelRow,
+    sampler: &mut S,
+    out: &mut [FilmSample],
+    mut aovs: Option<&mut [PixelAov]>,
+    ctx: &mut TraceContext,
+) {
+    for (i, o) in out.iter_mut().enumerate() {
+        let x = row.x0 + i as u32;
+        sampler.start_pixel_sample(x, row.y, row.index);
+        let aov = aovs.as_deref_mut().map(|a| &mut a[i]);
+        *o = integrator.sample(scene, x, row.y, sampler, aov, ctx);
     }
 }
 

@@ -11,6 +11,7 @@ pub mod filter;
 pub mod integrator;
 pub mod optics;
 pub mod path;
+mod path_wave;
 pub mod render_loop;
 pub mod sampler;
 mod tile_film;
