@@ -2,7 +2,7 @@
 //! importance sampling of one emitter and one BSDF sample; the path tracer's estimator stopped
 //! after direct light.
 
-use super::integrator::{FilmSample, Integrator, PixelIntegrator};
+use super::integrator::{FilmSample, Integrator, PixelIntegrator, PixelRow};
 use super::path::PathTracer;
 use super::sampler::Sampler;
 use super::{with_sampler, Film, PixelAov, RenderOptions, RenderStats, TraceContext};
@@ -36,5 +36,18 @@ impl PixelIntegrator for Direct {
         ctx: &mut TraceContext,
     ) -> FilmSample {
         self.0.sample(scene, x, y, sampler, aov, ctx)
+    }
+
+    #[inline]
+    fn sample_row<S: Sampler>(
+        &self,
+        scene: &Scene,
+        row: PixelRow,
+        sampler: &mut S,
+        out: &mut [FilmSample],
+        aovs: Option<&mut [PixelAov]>,
+        ctx: &mut TraceContext,
+    ) {
+        self.0.sample_row(scene, row, sampler, out, aovs, ctx)
     }
 }

@@ -77,15 +77,29 @@ pub trait PixelIntegrator: Integrator {
         row: PixelRow,
         sampler: &mut S,
         out: &mut [FilmSample],
-        mut aovs: Option<&mut [PixelAov]>,
+        aovs: Option<&mut [PixelAov]>,
         ctx: &mut TraceContext,
     ) {
-        for (i, o) in out.iter_mut().enumerate() {
-            let x = row.x0 + i as u32;
-            sampler.start_pixel_sample(x, row.y, row.index);
-            let aov = aovs.as_deref_mut().map(|a| &mut a[i]);
-            *o = self.sample(scene, x, row.y, sampler, aov, ctx);
-        }
+        sample_row_one_by_one(self, scene, row, sampler, out, aovs, ctx)
+    }
+}
+
+/// [`PixelIntegrator::sample_row`] as [`PixelIntegrator::sample`] of one pixel after the other (the
+/// default, and the fallback of integrators whose own row method does not apply to a scene).
+pub fn sample_row_one_by_one<I: PixelIntegrator, S: Sampler>(
+    integrator: &I,
+    scene: &Scene,
+    row: PixelRow,
+    sampler: &mut S,
+    out: &mut [FilmSample],
+    mut aovs: Option<&mut [PixelAov]>,
+    ctx: &mut TraceContext,
+) {
+    for (i, o) in out.iter_mut().enumerate() {
+        let x = row.x0 + i as u32;
+        sampler.start_pixel_sample(x, row.y, row.index);
+        let aov = aovs.as_deref_mut().map(|a| &mut a[i]);
+        *o = integrator.sample(scene, x, row.y, sampler, aov, ctx);
     }
 }
 

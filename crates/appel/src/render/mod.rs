@@ -12,6 +12,7 @@ pub mod integrator;
 mod light_pass;
 pub mod optics;
 pub mod path;
+mod path_wave;
 pub mod ptracer;
 pub mod render_loop;
 pub mod sampler;

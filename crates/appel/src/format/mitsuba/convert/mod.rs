@@ -348,9 +348,11 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             // Emitters seen directly, and direct light: Mitsuba's depth 2.
             r.max_depth = 2;
         }
-        p => return Err(i.error(format!(
+        p => {
+            return Err(i.error(format!(
             "unsupported integrator plugin \"{p}\" (supported: path, ptracer, direct, aov, moment)"
-        ))),
+        )))
+        }
     }
     r.hide_emitters = i.bool_or("hide_emitters", false)?;
     i.finish()?;
