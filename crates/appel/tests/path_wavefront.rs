@@ -8,7 +8,10 @@ use appel::render::filter::Filter;
 use appel::render::path::PathTracer;
 use appel::render::render_loop::{render_loop, Passes};
 use appel::render::sampler::{IndependentSampler, Sampler};
-use appel::render::{Film, FilmSample, Integrator, PixelAov, RenderOptions, TraceContext};
+use appel::render::{
+    Film, FilmSample, Integrator, PixelAov, PixelIntegrator, RenderOptions, RenderStats,
+    TraceContext,
+};
 use appel::scene::{RenderSettings, Scene};
 use std::path::Path;
 
@@ -23,6 +26,22 @@ impl Integrator for OneByOne {
         PathTracer::from_settings(s).map(OneByOne)
     }
 
+    /// The render loop with the scene's own seed and sample count and the independent sampler.
+    fn render(
+        &self,
+        scene: &Scene,
+        options: &RenderOptions,
+    ) -> appel::error::Result<(Film, RenderStats)> {
+        let passes = Passes {
+            filter: Filter::new(&scene.settings.filter),
+            spp: scene.settings.spp,
+        };
+        let sampler = IndependentSampler::new(scene.settings.seed);
+        render_loop(scene, self, &sampler, &passes, options)
+    }
+}
+
+impl PixelIntegrator for OneByOne {
     fn sample<S: Sampler>(
         &self,
         scene: &Scene,
@@ -36,7 +55,7 @@ impl Integrator for OneByOne {
     }
 }
 
-fn render_as<I: Integrator>(scene: &Scene, integrator: &I, seed: u64, spp: u32) -> Film {
+fn render_as<I: PixelIntegrator>(scene: &Scene, integrator: &I, seed: u64, spp: u32) -> Film {
     let passes = Passes {
         filter: Filter::new(&scene.settings.filter),
         spp,
