@@ -14,6 +14,7 @@ pub mod path;
 pub mod render_loop;
 pub mod sampler;
 mod tile_film;
+pub mod volpath;
 mod whitted;
 mod window;
 

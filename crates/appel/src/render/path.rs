@@ -61,7 +61,7 @@ impl PathTracer {
 
 /// The power heuristic with exponent 2.
 #[inline]
-fn mis_weight(a: f32, b: f32) -> f32 {
+pub(super) fn mis_weight(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 {
         a2 / (a2 + b2)
@@ -239,7 +239,7 @@ impl PathTracer {
 
 /// The emitter of the surface hit, or [`NO_EMITTER`] (instanced surfaces never emit).
 #[inline]
-fn surface_emitter(scene: &Scene, h: &SurfaceHit) -> u32 {
+pub(super) fn surface_emitter(scene: &Scene, h: &SurfaceHit) -> u32 {
     if h.hit.instance != NO_INSTANCE {
         return NO_EMITTER;
     }
@@ -254,7 +254,7 @@ fn surface_emitter(scene: &Scene, h: &SurfaceHit) -> u32 {
 /// The closest surface along `ray` that is there: a masked surface is passed through with the
 /// probability of its transparency.
 #[inline]
-fn intersect_through_masks<S: Sampler>(
+pub(super) fn intersect_through_masks<S: Sampler>(
     scene: &Scene,
     ray: &Ray,
     sampler: &mut S,
