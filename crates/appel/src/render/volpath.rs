@@ -4,7 +4,8 @@
 //! - Free flights are sampled by delta tracking with null collisions (Woodcock et al. 1965;
 //!   pbrt-v4 section 14.2.2; Novák et al. 2018): tentative collisions at the rate of the medium's
 //!   majorant, each a real scattering with probability `sigma_t / majorant` or a null collision
-//!   that continues the flight.
+//!   that continues the flight (the choice weighed by all three channels: see
+//!   [`scatter_probability`]).
 //! - Extinction that differs between the RGB channels is handled as Mitsuba's `volpath` does in
 //!   its RGB variants: each path picks one channel uniformly, samples distances with that
 //!   channel's majorant, and weights all three channels by their transmittance over that
@@ -354,8 +355,8 @@ fn beer_lambert(sigma: Vec3, d: f32) -> Vec3 {
 /// A free flight along `ray` through medium `m` up to `t_surface` by delta tracking, distances
 /// drawn with the majorant of `channel`. A tentative collision at distance `dt` has density
 /// `m_c exp(-m_c dt)` and the majorant's transmittance `exp(-majorant dt)` per channel; it
-/// scatters with probability `sigma_t[c] / m_c` (weight `sigma_s` over that probability), or is
-/// null (weight `majorant - sigma_t` over its probability); reaching the end has probability
+/// scatters with [`scatter_probability`] (weight `sigma_s` over that probability), or is null
+/// (weight `majorant - sigma_t` over its probability); reaching the end has probability
 /// `exp(-m_c d)`.
 fn sample_flight<S: Sampler>(
     m: &Medium,
@@ -395,7 +396,7 @@ fn sample_flight<S: Sampler>(
         let (sigma_t, sigma_s) = m.coefficients(p);
         // The majorant's transmittance over the collision's density.
         let ratio = beer_lambert(majorant - m_c, dt) / m_c;
-        let p_scatter = (sigma_t[channel] / m_c).clamp(0.0, 1.0);
+        let p_scatter = scatter_probability(sigma_t, majorant);
         if sampler.get_1d() < p_scatter {
             return Flight {
                 scatter: Some(p),
@@ -409,6 +410,28 @@ fn sample_flight<S: Sampler>(
                 weight: Vec3::ZERO,
             };
         }
+    }
+}
+
+/// The probability that a tentative collision is real: the mean over the channels of
+/// `sigma_t / majorant`. Mitsuba's volpath takes the sampling channel's ratio alone, which is 0
+/// or 1 where another channel's is not (an RGB grid, whose one majorant is its largest channel's
+/// value), and then misses that channel's null collisions or its scattering: a bias. The mean is
+/// zero only where no channel scatters and one only where no channel has null collisions, so
+/// every channel's estimate stays unbiased.
+#[inline]
+fn scatter_probability(sigma_t: Vec3, majorant: Vec3) -> f32 {
+    let (mut sum, mut n) = (0.0f32, 0.0f32);
+    for k in 0..3 {
+        if majorant[k] > 0.0 {
+            sum += (sigma_t[k] / majorant[k]).clamp(0.0, 1.0);
+            n += 1.0;
+        }
+    }
+    if n > 0.0 {
+        sum / n
+    } else {
+        0.0
     }
 }
 
