@@ -35,6 +35,7 @@ macro_rules! for_each_bsdf {
             PrincipledThin(principledthin: PrincipledThinDesc => PrincipledThin, PrincipledThinMaterial),
             CoatedDiffuse(coateddiffuse: CoatedDiffuseDesc => CoatedDiffuse, CoatedDiffuseMaterial),
             CoatedConductor(coatedconductor: CoatedConductorDesc => CoatedConductor, CoatedConductorMaterial),
+            Null(null: NullDesc => Null, NullMaterial),
         }
     };
 }

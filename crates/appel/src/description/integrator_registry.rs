@@ -25,6 +25,7 @@ macro_rules! for_each_integrator {
             Whitted { name: whitted, runtime: whitted::Whitted, params: NoParams, sampler: PixelPattern, monte_carlo: false },
             Path { name: path, runtime: path::PathTracer, params: NoParams, sampler: Independent, monte_carlo: true },
             Direct { name: direct, runtime: direct::Direct, params: NoParams, sampler: Independent, monte_carlo: true },
+            VolPath { name: volpath, runtime: volpath::VolPath, params: NoParams, sampler: Independent, monte_carlo: true },
             Aov { name: aov, runtime: aov::Aov, params: AovParams, sampler: Independent, monte_carlo: true },
             Ptracer { name: ptracer, runtime: ptracer::ParticleTracer, params: PtracerParams, sampler: Independent, monte_carlo: true },
         }

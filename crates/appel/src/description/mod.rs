@@ -17,6 +17,8 @@ pub mod integrator;
 mod integrator_registry;
 pub mod loaded_mesh;
 mod material;
+pub mod medium;
+mod medium_registry;
 pub mod origins;
 mod param_error;
 pub mod parse;
@@ -38,6 +40,12 @@ pub use integrator::{AovChannel, AovParams, AovType, PtracerParams};
 pub(crate) use integrator_registry::for_each_integrator;
 pub use integrator_registry::{IntegratorName, IntegratorParams, IntegratorTable, NoParams};
 pub use material::*;
+pub use medium::{
+    BlendPhaseDesc, ColorDesc, HeterogeneousDesc, HgDesc, HomogeneousDesc, IsotropicDesc,
+    MediumDesc, PhaseDesc, RayleighDesc, VolumeDesc, VolumeFilter, VolumeNode, MEDIUM_NAMES,
+    PHASE_NAMES,
+};
+pub(crate) use medium_registry::{for_each_medium, for_each_phase};
 
 macro_rules! export_bsdf_descs {
     ($($(#[$attr:meta])* $Variant:ident($module:ident: $Desc:ident => $Bsdf:ident, $Material:ident)),* $(,)?) => {
@@ -69,6 +77,10 @@ pub struct Description {
     pub shapes: Vec<ShapeDesc>,
     #[serde(default, rename = "light", skip_serializing_if = "Vec::is_empty")]
     pub lights: Vec<LightDesc>,
+    /// `[media.NAME]`: participating media, named by shapes' `interior` and `exterior` and by
+    /// the camera's `medium`.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub media: BTreeMap<String, MediumDesc>,
     /// Meshes declared once and placed by `[[instance]]` entries; not rendered by themselves.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub meshes: BTreeMap<String, MeshDesc>,
@@ -172,6 +184,9 @@ pub struct CameraDesc {
     /// distance from `eye` to `look_at`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub focus_distance: Option<f32>,
+    /// The `[media.NAME]` the camera sits in; none is vacuum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub medium: Option<String>,
     #[serde(default = "default_width")]
     pub width: u32,
     #[serde(default = "default_height")]
@@ -252,6 +267,7 @@ impl Default for CameraDesc {
             near_clip: 0.0,
             aperture_radius: 0.0,
             focus_distance: None,
+            medium: None,
             width: default_width(),
             height: default_height(),
         }

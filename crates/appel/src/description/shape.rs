@@ -55,6 +55,12 @@ pub struct TriangleMeshDesc {
     pub flip_normals: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// The `[media.NAME]` inside the surface (behind its normals); none is vacuum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interior: Option<String>,
+    /// The `[media.NAME]` outside the surface (on the side of its normals).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exterior: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub emitter: Option<AreaEmitterDesc>,
 }
@@ -71,6 +77,12 @@ pub struct SphereDesc {
     pub mitsuba_uv: Option<[Vec3f; 3]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// The `[media.NAME]` inside the surface (behind its normals); none is vacuum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interior: Option<String>,
+    /// The `[media.NAME]` outside the surface (on the side of its normals).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exterior: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub emitter: Option<AreaEmitterDesc>,
 }
@@ -146,6 +158,12 @@ pub struct MeshShapeDesc {
     /// Overrides the file's own materials.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// The `[media.NAME]` inside the surface (behind its normals); none is vacuum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interior: Option<String>,
+    /// The `[media.NAME]` outside the surface (on the side of its normals).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exterior: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub emitter: Option<AreaEmitterDesc>,
 }
@@ -164,6 +182,12 @@ pub struct BasicShapeDesc {
     pub flip_normals: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// The `[media.NAME]` inside the surface (behind its normals); none is vacuum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interior: Option<String>,
+    /// The `[media.NAME]` outside the surface (on the side of its normals).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exterior: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub emitter: Option<AreaEmitterDesc>,
 }
@@ -283,6 +307,31 @@ impl ShapeDesc {
             }
             ShapeDesc::Cylinder(s) => s.material.as_deref(),
             ShapeDesc::SdfGrid(s) => s.material.as_deref(),
+        }
+    }
+
+    /// The media inside and outside the surface (`interior`, `exterior`), on the kinds that
+    /// can bound a medium.
+    pub fn media(&self) -> (Option<&str>, Option<&str>) {
+        fn pair<'a>(
+            i: &'a Option<String>,
+            e: &'a Option<String>,
+        ) -> (Option<&'a str>, Option<&'a str>) {
+            (i.as_deref(), e.as_deref())
+        }
+        match self {
+            ShapeDesc::Sphere(s) => pair(&s.interior, &s.exterior),
+            ShapeDesc::Mesh(s) => pair(&s.interior, &s.exterior),
+            ShapeDesc::TriangleMesh(s) => pair(&s.interior, &s.exterior),
+            ShapeDesc::Rectangle(s) | ShapeDesc::Cube(s) | ShapeDesc::Disk(s) => {
+                pair(&s.interior, &s.exterior)
+            }
+            ShapeDesc::Plane(_)
+            | ShapeDesc::Triangle(_)
+            | ShapeDesc::Implicit(_)
+            | ShapeDesc::Torus(_)
+            | ShapeDesc::Cylinder(_)
+            | ShapeDesc::SdfGrid(_) => (None, None),
         }
     }
 

@@ -112,6 +112,14 @@ pub fn validate(d: &Description) -> Result<(), Invalid> {
             c.at(key(name), |c| material(c, d, name, m))
         })?;
     }
+    for (name, m) in &d.media {
+        c.at(key("media"), |c| c.at(key(name), |c| medium(c, m)))?;
+    }
+    if let Some(m) = &d.camera.medium {
+        c.at(key("camera"), |c| {
+            known_name(c, "medium", "medium", m, d.media.keys())
+        })?;
+    }
     for (i, s) in d.shapes.iter().enumerate() {
         c.at(key("shape"), |c| {
             c.at(PathSeg::Index(i), |c| shape(c, d, s))
@@ -162,6 +170,24 @@ pub fn validate(d: &Description) -> Result<(), Invalid> {
     }
     for (i, l) in d.lights.iter().enumerate() {
         c.at(key("light"), |c| c.at(PathSeg::Index(i), |c| light(c, l)))?;
+    }
+    Ok(())
+}
+
+fn medium(c: &mut Checker, m: &super::MediumDesc) -> Check {
+    if let Err(e) = m.check() {
+        return param_failure(c, e);
+    }
+    let volumes = match m {
+        super::MediumDesc::Homogeneous(h) => vec![("albedo", h.albedo.as_ref())],
+        super::MediumDesc::Heterogeneous(h) => {
+            vec![("sigma_t", Some(&h.sigma_t)), ("albedo", Some(&h.albedo))]
+        }
+    };
+    for (k, v) in volumes {
+        if let Some(t) = v.and_then(|v| v.transform()) {
+            c.at(key(k), |c| c.at(key("transform"), |c| transform(c, t)))?;
+        }
     }
     Ok(())
 }
@@ -497,6 +523,12 @@ fn instance(c: &mut Checker, d: &Description, i: &InstanceDesc) -> Check {
 
 fn shape(c: &mut Checker, d: &Description, s: &ShapeDesc) -> Check {
     material_name(c, d, s.material())?;
+    let (interior, exterior) = s.media();
+    for (k, m) in [("interior", interior), ("exterior", exterior)] {
+        if let Some(m) = m {
+            known_name(c, k, "medium", m, d.media.keys())?;
+        }
+    }
     let placed = |c: &mut Checker, t: &Option<TransformDesc>| match t {
         Some(t) => c.at(key("transform"), |c| transform(c, t)),
         None => Ok(()),

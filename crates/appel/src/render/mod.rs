@@ -18,6 +18,7 @@ pub mod render_loop;
 pub mod sampler;
 pub mod splat_film;
 mod tile_film;
+pub mod volpath;
 mod whitted;
 mod window;
 

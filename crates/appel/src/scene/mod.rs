@@ -8,6 +8,7 @@ mod geometry;
 mod instance;
 mod queries;
 mod scene_emitters;
+mod scene_media;
 
 use crate::description;
 pub use camera::{Camera, CameraConnection};
@@ -17,6 +18,7 @@ pub use geometry::{
 };
 pub use instance::{Instance, Prototype};
 pub use scene_emitters::{SceneEmitters, NO_EMITTER};
+pub use scene_media::{MediumInterface, SceneMedia, NO_MEDIUM};
 
 use crate::accel::{Accel, AccelKind, AccelOptions, AccelStats};
 use crate::math::Vec3;
@@ -65,6 +67,8 @@ pub struct Scene {
     pub has_masks: bool,
     /// The lights of every integrator: every `[[light]]` and emitting surface.
     pub emitters: SceneEmitters,
+    /// The participating media, the media each surface separates and the camera's.
+    pub media: SceneMedia,
     /// What `whitted` and `raycast` show where a ray leaves the scene.
     pub background: Vec3,
     /// The ambient light of `whitted` and `raycast`, weighted by each material's `ambient`.

@@ -63,6 +63,7 @@ pub fn model_description(file: &str) -> Description {
             ..Default::default()
         })],
         lights: vec![],
+        media: Default::default(),
         animation: None,
     };
     frame_model(&base, Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0)))

@@ -11,6 +11,7 @@ mod emitters;
 mod file_materials;
 mod frame;
 mod instance_entries;
+mod media;
 mod memory;
 mod mesh_shape;
 mod progress;
@@ -184,6 +185,7 @@ impl<'a> SceneBuilder<'a> {
             &self.from_files.emission,
             &mut self.textures,
         )?;
+        let media = media::build(d, &self.geometry, self.base_dir)?;
         let has_masks = self.materials.iter().any(|m| m.has_mask());
         self.steps.step("built the top-level structure")?;
         Ok(Scene {
@@ -193,6 +195,7 @@ impl<'a> SceneBuilder<'a> {
             accel,
             shading_materials: self.materials,
             emitters,
+            media,
             has_masks,
             background: d.environment.background.into(),
             ambient: d.environment.ambient.into(),

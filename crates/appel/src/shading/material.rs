@@ -203,6 +203,17 @@ impl SurfaceBsdf {
         Some(s)
     }
 
+    /// [`AnyBsdf::null_transmission`] through the wrappers: a blend's is the blend of its two
+    /// (the straight-through direction is the same in any frame).
+    pub fn null_transmission(&self, wo: Vec3) -> Vec3 {
+        let wo = flip_if(self.flip_outer, wo);
+        let first = self.bsdf.null_transmission(wo);
+        match &self.blend {
+            None => first,
+            Some((second, w)) => first * (1.0 - w) + second.null_transmission(wo) * *w,
+        }
+    }
+
     /// [`AnyBsdf::eval_pdf`] through the wrappers. A perturbed frame gives nothing where `wi` lies on
     /// different sides of the two frames' surfaces, and its value (not its pdf) carries the
     /// terminator shadowing.

@@ -8,6 +8,7 @@ pub(crate) mod chi2;
 pub mod emitter;
 pub mod frame;
 pub mod material;
+pub mod medium;
 pub mod perturb;
 pub use crate::description::spectra;
 pub mod texture;

@@ -127,6 +127,7 @@ fn scene_of(file: String) -> Description {
             ..Default::default()
         })],
         lights: vec![],
+        media: Default::default(),
         animation: None,
     }
 }

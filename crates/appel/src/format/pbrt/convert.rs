@@ -136,6 +136,7 @@ pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
             materials: std::mem::take(&mut c.materials),
             shapes: std::mem::take(&mut c.shapes),
             lights: std::mem::take(&mut c.lights),
+            media: Default::default(),
             meshes: std::mem::take(&mut c.meshes),
             instances: std::mem::take(&mut c.instances),
             animation: None,

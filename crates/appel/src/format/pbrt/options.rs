@@ -296,6 +296,7 @@ impl SceneOptions {
         let half_width = (kind == CameraKind::Orthographic)
             .then(|| (aspect.max(1.0) * m.transform_vector3(DVec3::X).length()) as f32);
         let camera = CameraDesc {
+            medium: None,
             kind,
             eye: f32s(eye),
             look_at: f32s(eye + forward.normalize()),

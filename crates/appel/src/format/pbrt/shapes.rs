@@ -229,6 +229,8 @@ impl Converter {
                     })
                     .collect();
                 ShapeDesc::TriangleMesh(TriangleMeshDesc {
+                    interior: None,
+                    exterior: None,
                     positions: world,
                     indices,
                     normals: world_normals,
@@ -256,6 +258,8 @@ impl Converter {
                     ));
                 }
                 ShapeDesc::Sphere(SphereDesc {
+                    interior: None,
+                    exterior: None,
                     center: f32s(m.transform_point3(DVec3::ZERO)),
                     radius: (radius * scale) as f32,
                     material: Some(material),
@@ -268,6 +272,8 @@ impl Converter {
                     * DMat4::from_scale(DVec3::new(*radius, *radius, 1.0));
                 let full = m * local;
                 ShapeDesc::Disk(BasicShapeDesc {
+                    interior: None,
+                    exterior: None,
                     transform: Some(TransformDesc {
                         matrix: Some(rows(&full)),
                         ..TransformDesc::default()

@@ -57,6 +57,9 @@ impl BsdfFlags {
     /// A delta transmission; also the straight-through lobe of [`ThinDielectric`] (Mitsuba's
     /// "null" lobe: the direction is `-wo`, the eta of the sample 1).
     pub const DELTA_TRANSMISSION: BsdfFlags = BsdfFlags(1 << 5);
+    /// Straight through an index-matched boundary (Mitsuba's `null` BSDF): a delta transmission
+    /// that the volumetric path tracer counts as no bounce at all.
+    pub const NULL: BsdfFlags = BsdfFlags(1 << 6 | 1 << 5);
     const DELTA: u8 = Self::DELTA_REFLECTION.0 | Self::DELTA_TRANSMISSION.0;
 
     /// Whether every lobe of `other` is in `self`.
@@ -144,6 +147,15 @@ pub trait Bsdf: Copy {
     /// as a Blinn highlight. Those integrators follow delta directions only, so rough metals are
     /// mirrors and rough glass is smooth glass.
     fn whitted(&self) -> Phong;
+
+    /// The weight of light passing straight through the surface unchanged, without a bounce
+    /// (Mitsuba's `eval_null_transmission`), which shadow rays of the volumetric path tracer
+    /// cross: zero but for the `null` BSDF.
+    #[inline]
+    fn null_transmission(&self, wo: Vec3) -> Vec3 {
+        let _ = wo;
+        Vec3::ZERO
+    }
 }
 
 /// Where a material's textures come from: the scene's cache of decoded images.
@@ -218,6 +230,14 @@ macro_rules! define_bsdfs {
             pub fn flags(&self) -> BsdfFlags {
                 match self {
                     $(AnyBsdf::$Variant(b) => b.flags(),)*
+                }
+            }
+
+            /// See [`Bsdf::null_transmission`].
+            #[inline]
+            pub fn null_transmission(&self, wo: Vec3) -> Vec3 {
+                match self {
+                    $(AnyBsdf::$Variant(b) => b.null_transmission(wo),)*
                 }
             }
 

@@ -96,6 +96,8 @@ impl Converter<'_> {
                 specular_reflectance: tex(self, b, "specular_reflectance", 1.0)?,
                 specular_transmittance: tex(self, b, "specular_transmittance", 1.0)?,
             }),
+            // An index-matched boundary of media.
+            "null" => MaterialDesc::Null(crate::description::NullDesc {}),
             "thindielectric" => MaterialDesc::ThinDielectric(ThinDielectricDesc {
                 int_ior: ior(b, "int_ior", "bk7")?,
                 ext_ior: ior(b, "ext_ior", "air")?,

@@ -5,6 +5,7 @@
 
 mod bsdf;
 mod emitter;
+mod medium;
 mod origin;
 mod shape;
 
@@ -42,6 +43,8 @@ pub fn convert_with_origins(doc: &Document) -> Result<(Description, Origins)> {
         meshes: BTreeMap::new(),
         instances: Vec::new(),
         origins: Origins::default(),
+        media: BTreeMap::new(),
+        medium_of: HashMap::new(),
     };
     let description = c.scene()?;
     Ok((description, c.origins))
@@ -59,6 +62,9 @@ struct Converter<'d> {
     meshes: BTreeMap<String, crate::description::MeshDesc>,
     instances: Vec<crate::description::InstanceDesc>,
     origins: Origins,
+    media: BTreeMap<String, crate::description::MediumDesc>,
+    /// The medium name given to each `<medium>` object, so that a shared one is converted once.
+    medium_of: HashMap<*const Object, String>,
 }
 
 impl Converter<'_> {
@@ -93,6 +99,9 @@ impl Converter<'_> {
                 "texture" => {
                     bsdf::texture_node(self, &o)?;
                 }
+                "medium" => {
+                    self.medium(&o)?;
+                }
                 _ => return Err(o.error("not supported in a scene")),
             }
         }
@@ -122,6 +131,18 @@ impl Converter<'_> {
         {
             materials.insert(DEFAULT_MATERIAL.into(), bsdf::mitsuba_default());
         }
+        if self
+            .shapes
+            .iter()
+            .any(|s| s.material() == Some(DEFAULT_EMITTER_MATERIAL))
+        {
+            materials.insert(
+                DEFAULT_EMITTER_MATERIAL.into(),
+                crate::description::MaterialDesc::Diffuse(crate::description::DiffuseDesc {
+                    reflectance: crate::description::TextureDesc::Value(0.0),
+                }),
+            );
+        }
         Ok(Description {
             camera,
             render,
@@ -129,6 +150,7 @@ impl Converter<'_> {
             materials,
             shapes: std::mem::take(&mut self.shapes),
             lights: std::mem::take(&mut self.lights),
+            media: std::mem::take(&mut self.media),
             meshes: std::mem::take(&mut self.meshes),
             instances: std::mem::take(&mut self.instances),
             animation: None,
@@ -256,6 +278,7 @@ impl Converter<'_> {
             // scales that.
             CameraKind::Orthographic => camera.half_width = Some(x.length() as f32),
         }
+        camera.medium = self.sensor_medium(s)?;
         let mut film = None;
         let mut sampler = None;
         for child in s.unnamed_children() {
@@ -307,6 +330,9 @@ impl Converter<'_> {
 /// The name of Mitsuba's BSDF for shapes that have none.
 const DEFAULT_MATERIAL: &str = "mitsuba_default_diffuse";
 
+/// The name of Mitsuba's BSDF for emitting shapes that have none: a black diffuse.
+const DEFAULT_EMITTER_MATERIAL: &str = "mitsuba_default_emitter";
+
 fn integrator_desc(i: &Object) -> Result<RenderDesc> {
     let mut r = RenderDesc::default();
     match i.plugin.as_str() {
@@ -343,6 +369,18 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
                 samples_per_pass: per_pass.map_or(0, |n| n.max(0) as u32),
             });
         }
+        "volpath" => {
+            r.integrator = IntegratorName::VolPath;
+            r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
+            r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
+        }
+        "volpathmis" => {
+            return Err(i.error(
+                "Appel has no volpathmis: its volpath samples distances with one RGB channel \
+                 chosen per path, and the spectral MIS over the channels (Miller et al. 2019) \
+                 that volpathmis adds is not implemented; use volpath",
+            ))
+        }
         "direct" => {
             r.integrator = IntegratorName::Direct;
             // Emitters seen directly, and direct light: Mitsuba's depth 2.
@@ -350,8 +388,8 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
         }
         p => {
             return Err(i.error(format!(
-            "unsupported integrator plugin \"{p}\" (supported: path, ptracer, direct, aov, moment)"
-        )))
+                "unsupported integrator plugin \"{p}\" (supported: path, volpath, ptracer, direct, aov, moment)"
+            )))
         }
     }
     r.hide_emitters = i.bool_or("hide_emitters", false)?;

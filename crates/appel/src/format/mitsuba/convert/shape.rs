@@ -5,7 +5,7 @@
 
 use super::super::document::{Object, Target};
 use super::origin::origin_of;
-use super::{columns, rows_f32, Converter, DEFAULT_MATERIAL};
+use super::{columns, rows_f32, Converter, DEFAULT_EMITTER_MATERIAL, DEFAULT_MATERIAL};
 use crate::description::origins::key_path;
 use crate::description::{
     BasicShapeDesc, CylinderDesc, InstanceDesc, MeshDesc, MeshShapeDesc, SdfGridDesc,
@@ -68,6 +68,7 @@ impl Converter<'_> {
             })
         };
         let (material, emitter) = self.shape_children(s)?;
+        let (interior, exterior) = self.shape_media(s)?;
         let material = Some(material);
         let emitter = match emitter {
             Some(e) => Some(self.area_emitter(&e)?),
@@ -80,6 +81,8 @@ impl Converter<'_> {
             "obj" | "ply" | "serialized" => {
                 let face_normals = s.bool("face_normals")?.unwrap_or(false);
                 ShapeDesc::Mesh(MeshShapeDesc {
+                    interior: interior.clone(),
+                    exterior: exterior.clone(),
                     file: self.mesh_file(s)?,
                     transform: placed(to_world),
                     face_normals,
@@ -102,6 +105,8 @@ impl Converter<'_> {
                 let (_, x, y, z) = columns(&to_world);
                 let axis = |v: DVec3| super::f32s(v / scale);
                 ShapeDesc::Sphere(SphereDesc {
+                    interior: interior.clone(),
+                    exterior: exterior.clone(),
                     center: super::f32s(to_world.transform_point3(center)),
                     radius: (radius * scale) as f32,
                     mitsuba_uv: Some([axis(x), axis(y), axis(z)]),
@@ -111,6 +116,8 @@ impl Converter<'_> {
             }
             "rectangle" | "cube" | "disk" => {
                 let b = BasicShapeDesc {
+                    interior: interior.clone(),
+                    exterior: exterior.clone(),
                     transform: placed(to_world),
                     flip_normals: flip_normals(s)?,
                     material,
@@ -214,7 +221,14 @@ impl Converter<'_> {
             }
             s.take(child);
         }
-        Ok((material.unwrap_or_else(|| DEFAULT_MATERIAL.into()), emitter))
+        // Mitsuba gives an emitting shape without a BSDF a black diffuse one (its `Shape`
+        // constructor), so that the light it emits is all it sends.
+        let default = if emitter.is_some() {
+            DEFAULT_EMITTER_MATERIAL
+        } else {
+            DEFAULT_MATERIAL
+        };
+        Ok((material.unwrap_or_else(|| default.into()), emitter))
     }
 
     /// Converts a shapegroup once; later calls return the same group.

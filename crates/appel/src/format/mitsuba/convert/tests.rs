@@ -85,12 +85,126 @@ fn plugins_appel_lacks_fail_at_their_line() {
         "{e}"
     );
     let e = err(&format!(
-        "<scene version=\"3.0.0\">{CAMERA}\n<medium type=\"homogeneous\"/>\n</scene>"
+        "<scene version=\"3.0.0\">{CAMERA}\n<medium type=\"fog\"/>\n</scene>"
     ));
     assert!(
-        e.starts_with("scene.xml:2:1: <medium type=\"homogeneous\">"),
+        e.starts_with(
+            "scene.xml:2:1: <medium type=\"fog\">: unsupported medium plugin \"fog\" (supported: \
+             homogeneous, heterogeneous)"
+        ),
         "{e}"
     );
+}
+
+fn convert_ok(text: &str) -> Description {
+    let doc = document_from_str(text, Path::new("scene.xml"), &XmlOptions::default()).unwrap();
+    let d = super::convert(&doc).unwrap_or_else(|e| panic!("{e}"));
+    validate::validate(&d).unwrap_or_else(|e| panic!("{e:?}"));
+    d
+}
+
+/// Media declared at the top level, nested in shapes or referenced, their phase functions and
+/// volumes, the sensor's medium and the volpath integrator.
+#[test]
+fn media_convert_with_their_phases_and_interfaces() {
+    let d = convert_ok(
+        "<scene version=\"3.0.0\">
+  <integrator type=\"volpath\"><integer name=\"max_depth\" value=\"7\"/></integrator>
+  <medium type=\"homogeneous\" id=\"fog\">
+    <rgb name=\"sigma_t\" value=\"0.5, 0.25, 1\"/><float name=\"scale\" value=\"2\"/>
+    <phase type=\"blendphase\"><float name=\"weight\" value=\"0.25\"/>
+      <phase type=\"rayleigh\"/><phase type=\"hg\"><float name=\"g\" value=\"-0.3\"/></phase>
+    </phase>
+  </medium>
+  <sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/><ref id=\"fog\"/></sensor>
+  <shape type=\"sphere\">
+    <bsdf type=\"null\"/>
+    <ref name=\"exterior\" id=\"fog\"/>
+    <medium type=\"heterogeneous\" name=\"interior\">
+      <volume type=\"constvolume\" name=\"sigma_t\"><float name=\"value\" value=\"3\"/></volume>
+      <float name=\"albedo\" value=\"0.5\"/>
+    </medium>
+  </shape>
+</scene>",
+    );
+    assert_eq!(d.render.integrator, IntegratorName::VolPath);
+    assert_eq!(d.render.max_depth, 7);
+    assert_eq!(d.camera.medium.as_deref(), Some("fog"));
+    let MediumDesc::Homogeneous(fog) = &d.media["fog"] else {
+        panic!("{:?}", d.media)
+    };
+    assert_eq!(fog.sigma_t, Some(ColorDesc::Rgb([0.5, 0.25, 1.0])));
+    assert_eq!(fog.scale, 2.0);
+    let PhaseDesc::BlendPhase(b) = &fog.phase else {
+        panic!("{:?}", fog.phase)
+    };
+    assert_eq!(b.weight, 0.25);
+    assert_eq!(b.phases[1], PhaseDesc::Hg(HgDesc { g: -0.3 }));
+    let ShapeDesc::Sphere(s) = &d.shapes[0] else {
+        panic!()
+    };
+    assert_eq!(s.exterior.as_deref(), Some("fog"));
+    let inner = s.interior.as_deref().unwrap();
+    let MediumDesc::Heterogeneous(h) = &d.media[inner] else {
+        panic!("{:?}", d.media)
+    };
+    assert_eq!(h.sigma_t.constant(), Some([3.0; 3]));
+    assert_eq!(h.albedo, VolumeDesc::Value(0.5));
+    assert!(matches!(
+        d.materials[s.material.as_deref().unwrap()],
+        MaterialDesc::Null(_)
+    ));
+}
+
+/// What Appel cannot do with media fails at its line, naming what is missing.
+#[test]
+fn media_appel_lacks_fail_at_their_line() {
+    let scene = |body: &str| format!("<scene version=\"3.0.0\">{CAMERA}\n{body}\n</scene>");
+    let e = err(&scene("<integrator type=\"volpathmis\"/>"));
+    assert!(
+        e.starts_with("scene.xml:2:1: <integrator type=\"volpathmis\">: Appel has no volpathmis")
+            && e.contains("spectral MIS"),
+        "{e}"
+    );
+    let e = err(&scene(
+        "<medium type=\"homogeneous\">\n  <phase type=\"sggx\"/>\n</medium>",
+    ));
+    assert!(
+        e.starts_with("scene.xml:3:3: <phase type=\"sggx\">: unsupported phase plugin"),
+        "{e}"
+    );
+    let e = err(&scene(
+        "<medium type=\"homogeneous\">\n  <phase type=\"hg\"><float name=\"g\" value=\"1.5\"/></phase>\n</medium>",
+    ));
+    assert!(
+        e.starts_with("scene.xml:3:") && e.contains("between -1 and 1"),
+        "{e}"
+    );
+    let e = err(&scene(
+        "<medium type=\"homogeneous\">\n  <float name=\"density\" value=\"2\"/>\n</medium>",
+    ));
+    assert!(
+        e.starts_with("scene.xml:3:3: <float name=\"density\">"),
+        "{e}"
+    );
+    let e = err(&scene(
+        "<medium type=\"heterogeneous\">\n  <volume type=\"noise\" name=\"sigma_t\"/>\n</medium>",
+    ));
+    assert!(
+        e.starts_with("scene.xml:3:3: <volume type=\"noise\">: unsupported volume plugin"),
+        "{e}"
+    );
+    let e = err(&scene(
+        "<medium type=\"homogeneous\" id=\"m\"/>\n<shape type=\"sphere\">\n  <ref name=\"inside\" id=\"m\"/>\n</shape>",
+    ));
+    assert!(
+        e.starts_with("scene.xml:4:3:") && e.contains("interior"),
+        "{e}"
+    );
+    let e = err(&scene(
+        "<medium type=\"homogeneous\">\n  <rgb name=\"albedo\" value=\"0.5, 1.5, 0.5\"/>\n</medium>",
+    ));
+    assert!(e.starts_with("scene.xml:3:3:"), "{e}");
 }
 
 /// various_shapes: the cylinder keeps its transform, the serialized mesh is a mesh file, and the

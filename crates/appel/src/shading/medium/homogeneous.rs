@@ -1,0 +1,37 @@
+//! Mitsuba's `homogeneous` medium: one extinction everywhere (scaled by `scale`), the albedo a
+//! volume, filling all space on its side of the surfaces that bound it. Its majorant is its
+//! extinction, so distance sampling meets no null collisions.
+
+use super::{MediumPlugin, Phase, Volume};
+use crate::math::{Ray, Vec3};
+
+#[derive(Clone, Debug)]
+pub struct Homogeneous {
+    pub sigma_t: Vec3,
+    pub albedo: Volume,
+    pub phase: Phase,
+}
+
+impl MediumPlugin for Homogeneous {
+    const NAME: &'static str = "homogeneous";
+    const HOMOGENEOUS: bool = true;
+
+    #[inline]
+    fn range(&self, _ray: &Ray, t_max: f32) -> Option<(f32, f32)> {
+        Some((0.0, t_max))
+    }
+
+    #[inline]
+    fn majorant(&self) -> Vec3 {
+        self.sigma_t
+    }
+
+    #[inline]
+    fn coefficients(&self, p: Vec3) -> (Vec3, Vec3) {
+        (self.sigma_t, self.sigma_t * self.albedo.eval(p))
+    }
+
+    fn phase(&self) -> &Phase {
+        &self.phase
+    }
+}

@@ -1,0 +1,263 @@
+//! The volumetric path tracer against closed forms and against itself: Beer-Lambert
+//! transmittance through an absorbing slab, a white furnace of scattering media, a heterogeneous
+//! medium whose grid is constant against the homogeneous medium of the same density, and the
+//! errors of media that make no sense.
+
+use appel::description::{description_from_str, parse::Syntax, Description};
+use appel::render::{render, Film, RenderOptions};
+use appel::scene::Scene;
+use std::path::Path;
+
+fn description(toml: &str) -> Description {
+    description_from_str(toml, Syntax::Toml, Path::new("media.toml"))
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn film_in(toml: &str, dir: &Path) -> Film {
+    let scene = Scene::new(&description(toml), dir).unwrap_or_else(|e| panic!("{e}"));
+    render(&scene, &RenderOptions::default()).unwrap().0
+}
+
+fn film(toml: &str) -> Film {
+    film_in(toml, Path::new("."))
+}
+
+/// The mean over the image and its standard error (from the per-pixel variances).
+fn mean_and_error(f: &Film) -> ([f64; 3], [f64; 3]) {
+    let n = f.rgb.len() as f64;
+    let mut m = [0.0; 3];
+    let mut v = [0.0; 3];
+    for (c, var) in f.rgb.iter().zip(&f.variance) {
+        for k in 0..3 {
+            m[k] += c[k] as f64 / n;
+            v[k] += var[k] as f64 / (n * n);
+        }
+    }
+    (m, v.map(f64::sqrt))
+}
+
+/// Every channel's image mean is `expected` within 4 standard errors (1e-4 for noiseless ones).
+fn assert_mean(f: &Film, expected: [f64; 3], what: &str) {
+    let (m, e) = mean_and_error(f);
+    for k in 0..3 {
+        assert!(
+            (m[k] - expected[k]).abs() <= 4.0 * e[k] + 1e-4,
+            "{what}: mean {m:?} +- {e:?}, expected {expected:?}"
+        );
+    }
+}
+
+/// An orthographic view down -z: every camera ray crosses the slab `0 < z < 1` at right angles
+/// on its way to an emitter of radiance 1 at z = -1.
+fn slab(sigma_t: &str, spp: u32) -> String {
+    format!(
+        "[camera]\ntype = \"orthographic\"\neye = [0.0, 0.0, 3.0]\nlook_at = [0.0, 0.0, 0.0]\n\
+         half_width = 0.5\nwidth = 8\nheight = 8\n\n\
+         [render]\nintegrator = \"volpath\"\nmax_depth = -1\nspp = {spp}\n\n\
+         [materials.boundary]\ntype = \"null\"\n\n\
+         [media.ink]\ntype = \"homogeneous\"\nsigma_t = {sigma_t}\nalbedo = 0.0\n\n\
+         [[shape]]\ntype = \"cube\"\nmaterial = \"boundary\"\ninterior = \"ink\"\n\
+         transform = {{ scale = [2.0, 2.0, 0.5], translate = [0.0, 0.0, 0.5] }}\n\n\
+         [[shape]]\ntype = \"rectangle\"\ntransform = {{ scale = 4.0, translate = [0.0, 0.0, -1.0] }}\n\
+         emitter = {{ radiance = 1.0 }}\n"
+    )
+}
+
+/// Through an absorbing slab of thickness 1 the light is `exp(-sigma_t)` per channel, the
+/// channels' extinctions different (one channel samples each path's distances and the others
+/// are weighted by their transmittance over its density).
+#[test]
+fn beer_lambert_through_a_slab() {
+    let sigma = [0.5f64, 1.0, 2.0];
+    let f = film(&slab("[0.5, 1.0, 2.0]", 256));
+    assert_mean(&f, sigma.map(|s| (-s).exp()), "absorbing slab");
+    // Without the medium the emitter is seen as it is: the null boundary costs nothing.
+    let clear = film(&slab("0.0", 4));
+    assert_mean(&clear, [1.0; 3], "clear slab");
+}
+
+/// A sphere of medium whose albedo is 1, under a uniform environment: nothing is absorbed, so
+/// every path ends in the environment with its weight's expectation unchanged, and the sphere
+/// looks exactly like the sky (a white furnace; its extinction differs between channels and its
+/// phase function is anisotropic, neither of which may change that).
+#[test]
+fn a_white_furnace_of_scattering_media() {
+    for (medium, what) in [
+        (
+            "type = \"homogeneous\"\nsigma_t = [2.5, 3.0, 4.0]\nalbedo = 1.0\n\
+             phase = { type = \"hg\", g = 0.6 }",
+            "homogeneous",
+        ),
+        (
+            "type = \"homogeneous\"\nsigma_a = 0.0\nsigma_s = 1.5\n\
+             phase = { type = \"blendphase\", weight = 0.4, phases = [{ type = \"rayleigh\" }, { type = \"hg\", g = -0.7 }] }",
+            "sigma_s with a blended phase",
+        ),
+    ] {
+        let f = film(&format!(
+            "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nwidth = 12\nheight = 12\n\
+             fov = 35\n\n[render]\nintegrator = \"volpath\"\nmax_depth = -1\nspp = 64\n\n\
+             [materials.boundary]\ntype = \"null\"\n\n[media.cloud]\n{medium}\n\n\
+             [[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\n\
+             material = \"boundary\"\ninterior = \"cloud\"\n\n\
+             [[light]]\ntype = \"constant\"\nradiance = [0.5, 1.0, 2.0]\n"
+        ));
+        assert_mean(&f, [0.5, 1.0, 2.0], what);
+    }
+}
+
+/// Mitsuba's binary grid volume of `values` (x fastest), `channels` per cell.
+fn vol_bytes(res: [i32; 3], channels: i32, values: &[f32]) -> Vec<u8> {
+    let mut b = b"VOL\x03".to_vec();
+    for v in [1, res[0], res[1], res[2], channels] {
+        b.extend(v.to_le_bytes());
+    }
+    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0].iter().chain(values) {
+        b.extend(v.to_le_bytes());
+    }
+    b
+}
+
+fn cube_scene(medium: &str, seed: u32) -> String {
+    format!(
+        "[camera]\neye = [0.5, 0.8, 3.0]\nlook_at = [0.5, 0.5, 0.5]\nwidth = 10\nheight = 10\nfov = 35\n\n\
+         [render]\nintegrator = \"volpath\"\nmax_depth = -1\nspp = 256\nseed = {seed}\n\n\
+         [materials.boundary]\ntype = \"null\"\n\n[materials.floor]\ntype = \"diffuse\"\nreflectance = 0.5\n\n\
+         [media.m]\n{medium}\n\n\
+         [[shape]]\ntype = \"cube\"\nmaterial = \"boundary\"\ninterior = \"m\"\n\
+         transform = {{ scale = 0.5, translate = [0.5, 0.5, 0.5] }}\n\n\
+         [[shape]]\ntype = \"rectangle\"\nmaterial = \"floor\"\n\
+         transform = {{ scale = 3.0, rotate = {{ axis = [1.0, 0.0, 0.0], degrees = -90.0 }}, translate = [0.5, -0.01, 0.5] }}\n\n\
+         [[light]]\ntype = \"constant\"\nradiance = [0.3, 0.3, 0.3]\n\n\
+         [[light]]\ntype = \"point\"\nposition = [2.0, 3.0, 2.0]\nintensity = 8.0\n"
+    )
+}
+
+/// A heterogeneous medium over a grid whose channels are constant but different (1, 0.5, 0.25:
+/// its one majorant, 1, makes null collisions in two channels) renders as the homogeneous
+/// medium of the same extinction, which has none: delta tracking and ratio tracking with null
+/// collisions agree with the exact free flights and transmittances, pixel by pixel (a
+/// two-sample z-test, Šidák-corrected over the pixels).
+#[test]
+fn a_constant_grid_renders_as_the_homogeneous_medium() {
+    let dir = tempfile::tempdir().unwrap();
+    let values: Vec<f32> = (0..4 * 4 * 4).flat_map(|_| [1.0f32, 0.5, 0.25]).collect();
+    std::fs::write(dir.path().join("rgb.vol"), vol_bytes([4, 4, 4], 3, &values)).unwrap();
+    let grid = film_in(
+        &cube_scene(
+            "type = \"heterogeneous\"\nscale = 3.0\nalbedo = 0.8\nphase = { type = \"hg\", g = 0.4 }\n\
+             sigma_t = { type = \"gridvolume\", file = \"rgb.vol\" }",
+            1,
+        ),
+        dir.path(),
+    );
+    let homogeneous = film(&cube_scene(
+        "type = \"homogeneous\"\nsigma_t = [3.0, 1.5, 0.75]\nalbedo = 0.8\nphase = { type = \"hg\", g = 0.4 }",
+        2,
+    ));
+    let tests = (3 * grid.rgb.len()) as f64;
+    // Two-sided threshold for a 1% overall false-failure rate.
+    let alpha = 1.0 - 0.99f64.powf(1.0 / tests);
+    let z_max = inverse_normal_tail(alpha / 2.0);
+    for (i, (a, b)) in grid.rgb.iter().zip(&homogeneous.rgb).enumerate() {
+        for k in 0..3 {
+            let var = (grid.variance[i][k] + homogeneous.variance[i][k]) as f64;
+            let z = (a[k] - b[k]) as f64 / var.max(1e-10).sqrt();
+            assert!(
+                z.abs() < z_max,
+                "pixel {i} channel {k}: {a} vs {b} (z = {z})"
+            );
+        }
+    }
+    let (m1, e1) = mean_and_error(&grid);
+    let (m2, e2) = mean_and_error(&homogeneous);
+    for k in 0..3 {
+        let e = (e1[k] * e1[k] + e2[k] * e2[k]).sqrt();
+        assert!((m1[k] - m2[k]).abs() < 4.0 * e, "{m1:?} vs {m2:?} +- {e}");
+    }
+    // And the medium is there: the cube is darker than the same scene without it.
+    let empty = film(&cube_scene("type = \"homogeneous\"\nsigma_t = 0.0", 3));
+    assert!(mean_and_error(&empty).0[2] > m2[2] * 1.05);
+}
+
+/// The z beyond which the standard normal's upper tail holds `p` (bisection on erfc).
+fn inverse_normal_tail(p: f64) -> f64 {
+    let tail = |z: f64| 0.5 * erfc(z / std::f64::consts::SQRT_2);
+    let (mut lo, mut hi) = (0.0f64, 40.0f64);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if tail(mid) > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// erfc from its continued-fraction-free Chebyshev fit (Numerical Recipes 6.2, relative error
+/// below 1.2e-7).
+fn erfc(x: f64) -> f64 {
+    let z = x.abs();
+    let t = 1.0 / (1.0 + 0.5 * z);
+    let r = t
+        * (-z * z - 1.265_512_23
+            + t * (1.000_023_68
+                + t * (0.374_091_96
+                    + t * (0.096_784_18
+                        + t * (-0.186_288_06
+                            + t * (0.278_868_07
+                                + t * (-1.135_203_98
+                                    + t * (1.488_515_87
+                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
+            .exp();
+    if x >= 0.0 {
+        r
+    } else {
+        2.0 - r
+    }
+}
+
+fn error_of(toml: &str) -> String {
+    match description_from_str(toml, Syntax::Toml, Path::new("media.toml")) {
+        Ok(_) => panic!("accepted:\n{toml}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// Media that make no sense are errors at their line.
+#[test]
+fn bad_media_are_errors_at_their_line() {
+    let base = "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n";
+    let e = error_of(&format!(
+        "{base}[media.fog]\ntype = \"homogeneous\"\nalbedo = 1.5\n"
+    ));
+    assert!(e.contains("media.toml:6") && e.contains("albedo"), "{e}");
+    let e = error_of(&format!(
+        "{base}[media.fog]\ntype = \"homogeneous\"\nphase = {{ type = \"hg\", g = 1.0 }}\n"
+    ));
+    assert!(e.contains("media.toml:6") && e.contains("-1 and 1"), "{e}");
+    let e = error_of(&format!("{base}[media.fog]\ntype = \"smoke\"\n"));
+    assert!(
+        e.contains("media.toml:5") && e.contains("homogeneous"),
+        "{e}"
+    );
+    let e = error_of(&format!(
+        "{base}[media.fog]\ntype = \"homogeneous\"\nsigma_a = 1.0\n"
+    ));
+    assert!(e.contains("sigma_a") && e.contains("together"), "{e}");
+    let e = error_of(&format!(
+        "{base}medium = \"mist\"\n[media.fog]\ntype = \"homogeneous\"\n"
+    ));
+    assert!(
+        e.contains("media.toml:4") && e.contains("unknown medium `mist`"),
+        "{e}"
+    );
+    let e = error_of(&format!(
+        "{base}[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\ninterior = \"mist\"\n"
+    ));
+    assert!(
+        e.contains("media.toml:8") && e.contains("unknown medium"),
+        "{e}"
+    );
+}
