@@ -90,6 +90,7 @@ fn assert_agree(a: &Film, b: &Film, what: &str) {
             }
         }
     }
+    eprintln!("{what}: worst |z| {worst:.2} over {lit} blocks and channels");
     assert!(lit > 100, "{what}: {lit} blocks lit");
     assert!(worst < 4.5, "{what}: worst |z| {worst}");
 }
@@ -114,7 +115,10 @@ fn the_wavefront_renders_the_scalar_loops_cornell_box() {
     // The scene's tent filter: samples splatted into their neighbours, the same bits.
     let scene = Scene::new(&d, &loaded.base_dir).unwrap();
     let path = PathTracer::from_settings(&scene.settings).unwrap();
-    let (wave, one) = (render_as(&scene, &path, 3, 2), render_as(&scene, &OneByOne(path), 3, 2));
+    let (wave, one) = (
+        render_as(&scene, &path, 3, 2),
+        render_as(&scene, &OneByOne(path), 3, 2),
+    );
     assert_eq!(bits(&wave), bits(&one));
     // The box filter keeps the pixels independent for the z-test.
     d.render.filter = FilterDesc::Box { radius: 0.5 };
