@@ -109,6 +109,7 @@ fn assert_agree(a: &Film, b: &Film, what: &str) {
             }
         }
     }
+    eprintln!("{what}: worst |z| {worst:.2} over {lit} blocks and channels");
     assert!(lit > 100, "{what}: {lit} blocks lit");
     assert!(worst < 4.5, "{what}: worst |z| {worst}");
 }
