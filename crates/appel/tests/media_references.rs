@@ -15,9 +15,9 @@ fn media(file: &str) -> PathBuf {
         .join(file)
 }
 
-fn check(name: &str, spp: u32) {
+fn check(name: &str, spp: u32, block: u32) {
     let scene = media(&format!("{name}.xml"));
-    let film = render_xml(&scene, &Setup { spp, block: 1 });
+    let film = render_xml(&scene, &Setup { spp, block });
     let r = reference(&media(&format!("{name}.exr")), film.width, film.height);
     let c = compare(&film, &r);
     save_side_by_side(name, &film, &r);
@@ -29,25 +29,28 @@ fn check(name: &str, spp: u32) {
 /// a forward Henyey-Greenstein phase function.
 #[test]
 fn homogeneous_sphere() {
-    check("homogeneous_sphere", 1024);
+    check("homogeneous_sphere", 1024, 1);
 }
 
 /// A heterogeneous cloud from a grid, scattering backward (g < 0), under a sky and a light.
 #[test]
 fn hg_cloud() {
-    check("hg_cloud", 1024);
+    check("hg_cloud", 1024, 1);
 }
 
 /// The camera inside an unbounded fog with Rayleigh and Henyey-Greenstein blended.
 #[test]
 fn camera_in_fog() {
-    check("camera_in_fog", 1024);
+    check("camera_in_fog", 1024, 1);
 }
 
-/// A dielectric sphere holding a scattering medium: refraction between two media.
+/// A dielectric sphere holding a scattering medium: refraction between two media. The room is
+/// lit through the glass by caustics that only BSDF sampling finds, rare and bright at this
+/// sample count (a pixel's own variance estimate misses them), so values are compared as means
+/// of 4x4 pixels.
 #[test]
 fn dielectric_medium() {
-    check("dielectric_medium", 1024);
+    check("dielectric_medium", 1024, 4);
 }
 
 /// The comparison can fail: the cloud rendered 3% too dark is rejected.
