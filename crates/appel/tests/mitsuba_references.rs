@@ -249,6 +249,28 @@ fn various_emitters() {
     assert!(c.passes(), "{c:?}");
 }
 
+/// The same file with the integrator it names, Mitsuba's particle tracer, against the same
+/// reference: light paths from all seven lights (area lights on a rectangle, an OBJ rectangle
+/// and an OBJ sphere, with textured radiance; spots, one textured; a projector; a point light),
+/// each vertex connected to the camera, and the area lights seen directly. The variance of each
+/// pixel comes from the spread of the batches of light paths (`render/splat_film.rs`).
+#[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
+fn various_emitters_ptracer() {
+    let dir = "mitsuba-data/tests/scenes/various_emitters";
+    let (scene, ref_path) = (
+        shared(&format!("{dir}/test_various_emitters_ptracer.xml")),
+        shared(&format!("{dir}/refs/test_various_emitters_ref_rgb.exr")),
+    );
+    let setup = Setup { spp: 128, block: 4 };
+    let film = render_xml(&scene, &setup);
+    let r = reference(&ref_path, film.width, film.height);
+    let c = compare(&film, &r);
+    save_side_by_side("test_various_emitters_ptracer", &film, &r);
+    eprintln!("various_emitters (ptracer): {c:?}");
+    assert!(c.passes(), "{c:?}");
+}
+
 #[test]
 #[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn cornell_box_against_mitsuba() {

@@ -27,12 +27,13 @@ macro_rules! for_each_integrator {
             Direct { name: direct, runtime: direct::Direct, params: NoParams, sampler: Independent, monte_carlo: true },
             VolPath { name: volpath, runtime: volpath::VolPath, params: NoParams, sampler: Independent, monte_carlo: true },
             Aov { name: aov, runtime: aov::Aov, params: AovParams, sampler: Independent, monte_carlo: true },
+            Ptracer { name: ptracer, runtime: ptracer::ParticleTracer, params: PtracerParams, sampler: Independent, monte_carlo: true },
         }
     };
 }
 pub(crate) use for_each_integrator;
 
-use super::integrator::AovParams;
+use super::integrator::{AovParams, PtracerParams};
 use super::SamplerName;
 use serde::{Deserialize, Deserializer, Serialize};
 

@@ -10,7 +10,7 @@
 //! of both sides (a depth between the two distances, an index that is no index). A pixel whose
 //! centre ray hits nothing has zeros, as in Mitsuba.
 
-use super::integrator::{centre_aov, FilmSample, Integrator};
+use super::integrator::{centre_aov, FilmSample, Integrator, PixelIntegrator};
 use super::sampler::Sampler;
 use super::{
     render_with, with_sampler, Channel, Film, PixelAov, RenderOptions, RenderStats, TraceContext,
@@ -57,6 +57,27 @@ impl Integrator for Aov {
         })
     }
 
+    fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
+        let (mut film, mut stats) = match self.nested {
+            Some(kind) => render_with(kind, scene, options)?,
+            None => with_sampler(scene, self, options)?,
+        };
+        // A film asked for the image alone gets no channels either.
+        if options.skip_aovs {
+            return Ok((film, stats));
+        }
+        let start = Instant::now();
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let window = options.window.unwrap_or(Window::full(w, h));
+        let (channels, ctx) = self.channels(scene, window, &film);
+        film.channels = channels;
+        stats.merge(&ctx);
+        stats.time += start.elapsed();
+        Ok((film, stats))
+    }
+}
+
+impl PixelIntegrator for Aov {
     /// Without a nested integrator the image is black (Mitsuba's), and the samples only place
     /// it on the film.
     fn sample<S: Sampler>(
@@ -76,25 +97,6 @@ impl Integrator for Aov {
             pos,
             radiance: Vec3::ZERO,
         }
-    }
-
-    fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
-        let (mut film, mut stats) = match self.nested {
-            Some(kind) => render_with(kind, scene, options)?,
-            None => with_sampler(scene, self, options)?,
-        };
-        // A film asked for the image alone gets no channels either.
-        if options.skip_aovs {
-            return Ok((film, stats));
-        }
-        let start = Instant::now();
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        let window = options.window.unwrap_or(Window::full(w, h));
-        let (channels, ctx) = self.channels(scene, window, &film);
-        film.channels = channels;
-        stats.merge(&ctx);
-        stats.time += start.elapsed();
-        Ok((film, stats))
     }
 }
 

@@ -2,10 +2,10 @@
 //! importance sampling of one emitter and one BSDF sample; the path tracer's estimator stopped
 //! after direct light.
 
-use super::integrator::{FilmSample, Integrator};
+use super::integrator::{FilmSample, Integrator, PixelIntegrator, PixelRow};
 use super::path::PathTracer;
 use super::sampler::Sampler;
-use super::{PixelAov, TraceContext};
+use super::{with_sampler, Film, PixelAov, RenderOptions, RenderStats, TraceContext};
 use crate::error::Result;
 use crate::scene::{RenderSettings, Scene};
 
@@ -19,6 +19,12 @@ impl Integrator for Direct {
         Ok(Direct(PathTracer::direct(s.hide_emitters)))
     }
 
+    fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
+        with_sampler(scene, self, options)
+    }
+}
+
+impl PixelIntegrator for Direct {
     #[inline]
     fn sample<S: Sampler>(
         &self,
@@ -30,5 +36,18 @@ impl Integrator for Direct {
         ctx: &mut TraceContext,
     ) -> FilmSample {
         self.0.sample(scene, x, y, sampler, aov, ctx)
+    }
+
+    #[inline]
+    fn sample_row<S: Sampler>(
+        &self,
+        scene: &Scene,
+        row: PixelRow,
+        sampler: &mut S,
+        out: &mut [FilmSample],
+        aovs: Option<&mut [PixelAov]>,
+        ctx: &mut TraceContext,
+    ) {
+        self.0.sample_row(scene, row, sampler, out, aovs, ctx)
     }
 }

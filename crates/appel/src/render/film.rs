@@ -110,6 +110,18 @@ impl Film {
         }
     }
 
+    /// The pixels of `window` of this full-image film (RGB and variance), with `aovs` (the
+    /// window's, in row order, or empty).
+    pub(crate) fn crop(&self, window: super::Window, aovs: &[PixelAov]) -> Film {
+        let (mut rgb, mut variance) = (Vec::new(), Vec::new());
+        for y in window.y0..window.y1 {
+            let (a, b) = (self.index(window.x0, y), self.index(window.x1 - 1, y) + 1);
+            rgb.extend_from_slice(&self.rgb[a..b]);
+            variance.extend_from_slice(&self.variance[a..b]);
+        }
+        Film::from_pixels(window.width(), window.height(), rgb, variance, aovs)
+    }
+
     pub fn index(&self, x: u32, y: u32) -> usize {
         y as usize * self.width as usize + x as usize
     }

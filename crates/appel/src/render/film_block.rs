@@ -31,7 +31,7 @@ pub struct PixelSums {
 
 impl PixelSums {
     #[inline]
-    fn add(&mut self, v: Vec3, w: f32) {
+    pub(crate) fn add(&mut self, v: Vec3, w: f32) {
         let (w, v) = (w as f64, v.as_dvec3());
         for (c, x) in v.to_array().into_iter().enumerate() {
             self.wv[c] += w * x;

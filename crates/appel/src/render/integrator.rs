@@ -27,9 +27,25 @@ pub struct PixelRow {
     pub index: u32,
 }
 
-/// An integrator, monomorphized by the render loop for each sampler: no dynamic dispatch per
-/// ray or per sample. Each is listed once in the registry (`for_each_integrator!`), from which
-/// the render dispatch ([`super::render`]) is generated.
+/// An integrator: how a scene becomes a film. Each is listed once in the registry
+/// (`for_each_integrator!`), from which the render dispatch ([`super::render`]) is generated.
+/// Most integrators trace from the camera, one pixel sample at a time ([`PixelIntegrator`]),
+/// and render through the one render loop; an integrator that traces from the lights (`ptracer`)
+/// or wraps another (`aov`) renders its own way.
+pub trait Integrator: Sync + Sized {
+    /// Its name in the registry (`render.integrator`), checked against the list at compile time.
+    const NAME: &'static str;
+
+    /// The integrator the scene's settings describe (its `[render.NAME]` table among them).
+    fn from_settings(settings: &RenderSettings) -> Result<Self>;
+
+    /// Renders the scene: for a [`PixelIntegrator`], the render loop over it and the scene's
+    /// sampler ([`super::with_sampler`]).
+    fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)>;
+}
+
+/// An integrator that estimates each pixel sample from the camera, monomorphized by the render
+/// loop for each sampler: no dynamic dispatch per ray or per sample.
 ///
 /// The per-sample methods take one pixel sample at a time. A version over 8 SIMD lanes would
 /// keep this shape with the scalar types made generic (as Mitsuba 3 writes its integrators once
@@ -38,13 +54,7 @@ pub struct PixelRow {
 /// positions from the sampler, and traces the 8 camera rays as a packet
 /// ([`Scene::intersect_coherent`]); `FilmSample` and `PixelAov` become structures of 8-wide
 /// arrays.
-pub trait Integrator: Sync + Sized {
-    /// Its name in the registry (`render.integrator`), checked against the list at compile time.
-    const NAME: &'static str;
-
-    /// The integrator the scene's settings describe (its `[render.NAME]` table among them).
-    fn from_settings(settings: &RenderSettings) -> Result<Self>;
-
+pub trait PixelIntegrator: Integrator {
     /// Sample `index` of pixel `(x, y)`, the sampler already started there. `aov`, when given
     /// (sample 0), receives what the ray through the pixel centre sees first.
     fn sample<S: Sampler>(
@@ -67,21 +77,29 @@ pub trait Integrator: Sync + Sized {
         row: PixelRow,
         sampler: &mut S,
         out: &mut [FilmSample],
-        mut aovs: Option<&mut [PixelAov]>,
+        aovs: Option<&mut [PixelAov]>,
         ctx: &mut TraceContext,
     ) {
-        for (i, o) in out.iter_mut().enumerate() {
-            let x = row.x0 + i as u32;
-            sampler.start_pixel_sample(x, row.y, row.index);
-            let aov = aovs.as_deref_mut().map(|a| &mut a[i]);
-            *o = self.sample(scene, x, row.y, sampler, aov, ctx);
-        }
+        sample_row_one_by_one(self, scene, row, sampler, out, aovs, ctx)
     }
+}
 
-    /// Renders the scene: the render loop over this integrator and the scene's sampler. An
-    /// integrator that wraps another, or adds images of its own, says so here.
-    fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
-        super::with_sampler(scene, self, options)
+/// [`PixelIntegrator::sample_row`] as [`PixelIntegrator::sample`] of one pixel after the other (the
+/// default, and the fallback of integrators whose own row method does not apply to a scene).
+pub fn sample_row_one_by_one<I: PixelIntegrator, S: Sampler>(
+    integrator: &I,
+    scene: &Scene,
+    row: PixelRow,
+    sampler: &mut S,
+    out: &mut [FilmSample],
+    mut aovs: Option<&mut [PixelAov]>,
+    ctx: &mut TraceContext,
+) {
+    for (i, o) in out.iter_mut().enumerate() {
+        let x = row.x0 + i as u32;
+        sampler.start_pixel_sample(x, row.y, row.index);
+        let aov = aovs.as_deref_mut().map(|a| &mut a[i]);
+        *o = integrator.sample(scene, x, row.y, sampler, aov, ctx);
     }
 }
 

@@ -9,17 +9,21 @@ mod film;
 pub mod film_block;
 pub mod filter;
 pub mod integrator;
+mod light_pass;
 pub mod optics;
 pub mod path;
+mod path_wave;
+pub mod ptracer;
 pub mod render_loop;
 pub mod sampler;
+pub mod splat_film;
 mod tile_film;
 pub mod volpath;
 mod whitted;
 mod window;
 
 pub use film::{Channel, Film, PixelAov, MISS_ID};
-pub use integrator::{surface_hit, FilmSample, Integrator, PixelRow, SurfaceHit};
+pub use integrator::{surface_hit, FilmSample, Integrator, PixelIntegrator, PixelRow, SurfaceHit};
 pub use whitted::{local_shading, Raycast, Whitted};
 pub use window::Window;
 
@@ -140,7 +144,7 @@ macro_rules! define_integrator_dispatch {
 crate::description::for_each_integrator!(define_integrator_dispatch);
 
 /// The render loop monomorphized for the integrator and the scene's sampler.
-pub(crate) fn with_sampler<I: Integrator>(
+pub(crate) fn with_sampler<I: integrator::PixelIntegrator>(
     scene: &Scene,
     integrator: &I,
     options: &RenderOptions,

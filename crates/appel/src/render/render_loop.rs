@@ -16,7 +16,7 @@
 
 use super::film_block::FilmBlock;
 use super::filter::Filter;
-use super::integrator::{FilmSample, Integrator, PixelRow};
+use super::integrator::{FilmSample, PixelIntegrator, PixelRow};
 use super::sampler::Sampler;
 use super::tile_film::{TileFilm, TileRect, TileSamples};
 use super::{Film, PixelAov, RenderOptions, RenderStats, TraceContext, Window, TILE_SIZE};
@@ -38,7 +38,7 @@ pub struct Passes {
 /// one, a first pass of one sample measures the cost of a sample, and each later pass takes what
 /// the remaining time allows at that cost, at most twice the samples done so far, so the render
 /// stops near the limit whatever a sample costs.
-fn next_pass(spp: u32, done: u32, elapsed: Duration, limit: Option<Duration>) -> u32 {
+pub(super) fn next_pass(spp: u32, done: u32, elapsed: Duration, limit: Option<Duration>) -> u32 {
     let remaining = spp - done;
     let Some(limit) = limit else {
         return remaining;
@@ -100,7 +100,7 @@ fn tiles_over(region: Window) -> Vec<Tile> {
         .collect()
 }
 
-pub fn render_loop<I: Integrator, S: Sampler>(
+pub fn render_loop<I: PixelIntegrator, S: Sampler>(
     scene: &Scene,
     integrator: &I,
     sampler: &S,
@@ -116,7 +116,7 @@ pub fn render_loop<I: Integrator, S: Sampler>(
 
 /// [`render_loop`], the tiles finishing their own pixels or not as `own_pixels` says (which needs
 /// the pixel box and one pass).
-fn render_loop_as<I: Integrator, S: Sampler>(
+fn render_loop_as<I: PixelIntegrator, S: Sampler>(
     scene: &Scene,
     integrator: &I,
     sampler: &S,
@@ -245,7 +245,7 @@ impl WindowFilm {
 /// top, in each row the sample indices in turn, each over the row's pixels from the left; the
 /// AOVs with sample 0 if `with_aovs` (which needs `first == 0`).
 #[allow(clippy::too_many_arguments)]
-fn render_tile<I: Integrator, S: Sampler>(
+fn render_tile<I: PixelIntegrator, S: Sampler>(
     scene: &Scene,
     integrator: &I,
     sampler: &S,

@@ -20,10 +20,12 @@
 //!   heuristic (Veach 1997); a `null` surface is no bounce: the depth, the last scattering
 //!   vertex and its density stay as they were.
 
-use super::integrator::{camera_ray, centre_aov, CameraRay, FilmSample, Integrator};
+use super::integrator::{
+    camera_ray, centre_aov, CameraRay, FilmSample, Integrator, PixelIntegrator,
+};
 use super::path::{intersect_through_masks, mis_weight, surface_emitter};
 use super::sampler::Sampler;
-use super::{PixelAov, TraceContext};
+use super::{with_sampler, Film, PixelAov, RenderOptions, RenderStats, TraceContext};
 use crate::error::Result;
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::scene::{RenderSettings, Scene, NO_EMITTER};
@@ -67,6 +69,12 @@ impl Integrator for VolPath {
         Ok(Self::new(s.max_depth, s.rr_depth, s.hide_emitters))
     }
 
+    fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
+        with_sampler(scene, self, options)
+    }
+}
+
+impl PixelIntegrator for VolPath {
     fn sample<S: Sampler>(
         &self,
         scene: &Scene,

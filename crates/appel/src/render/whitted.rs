@@ -9,12 +9,12 @@
 //! `environment.background` is its sky and `environment.ambient` its ambient light.
 
 use super::integrator::{
-    aov_of, camera_ray, centre_aov, surface_hit, CameraRay, FilmSample, Integrator, PixelRow,
-    SurfaceHit,
+    aov_of, camera_ray, centre_aov, surface_hit, CameraRay, FilmSample, Integrator,
+    PixelIntegrator, PixelRow, SurfaceHit,
 };
 use super::optics::{fresnel_dielectric, reflect, refract};
 use super::sampler::Sampler;
-use super::{PixelAov, TraceContext};
+use super::{Film, PixelAov, RenderOptions, RenderStats, TraceContext};
 use crate::error::Result;
 use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin_by, surface_offset, Ray, Vec2, Vec3};
@@ -233,6 +233,16 @@ macro_rules! first_hit_integrator {
                 Ok($new)
             }
 
+            fn render(
+                &self,
+                scene: &Scene,
+                options: &RenderOptions,
+            ) -> Result<(Film, RenderStats)> {
+                super::with_sampler(scene, self, options)
+            }
+        }
+
+        impl PixelIntegrator for $t {
             #[inline]
             fn sample<S: Sampler>(
                 &self,

@@ -40,4 +40,8 @@ impl Window {
     pub fn height(&self) -> u32 {
         self.y1 - self.y0
     }
+
+    pub fn pixel_count(&self) -> u64 {
+        self.width() as u64 * self.height() as u64
+    }
 }

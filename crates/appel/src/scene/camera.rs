@@ -157,10 +157,115 @@ impl Camera {
         Ray::new(origin, dir)
     }
 
+    /// The area of the film on the image plane at unit distance (perspective), `2 tan(fov/2) W/H`
+    /// by `2 tan(fov/2)`: the normalisation of the camera's importance.
+    fn film_area(&self) -> f32 {
+        let t = self.tan_half_fov;
+        4.0 * t * t * self.width as f32 / self.height as f32
+    }
+
+    /// The film position (in pixels) of the direction `w` (not necessarily unit) that leaves the
+    /// lens at `lens_offset` from the eye (zero for a pinhole), or `None` outside the film: the
+    /// inverse of [`Self::ray_through_lens`], through the point where the ray meets the plane in
+    /// focus (for a pinhole, through the image plane).
+    fn film_position(&self, lens_offset: Vec3, w: Vec3) -> Option<Vec2> {
+        let z = w.dot(self.forward);
+        if !(z > 0.0) {
+            return None;
+        }
+        let (u, v) = if lens_offset == Vec3::ZERO {
+            (w.dot(self.right) / z, w.dot(self.true_up) / z)
+        } else {
+            let f = self.focus_distance;
+            let q = lens_offset + (f / z) * w;
+            (q.dot(self.right) / f, q.dot(self.true_up) / f)
+        };
+        let (wf, hf) = (self.width as f32, self.height as f32);
+        let t = self.tan_half_fov;
+        let x = (u * hf / (t * wf) + 1.0) * 0.5 * wf;
+        let y = (1.0 - v / t) * 0.5 * hf;
+        ((0.0..wf).contains(&x) && (0.0..hf).contains(&y)).then_some(Vec2::new(x, y))
+    }
+
+    /// A point of the lens for `u` (the eye for a pinhole), as an offset from the eye.
+    fn lens_offset(&self, u: Vec2) -> Vec3 {
+        if !self.has_lens() {
+            return Vec3::ZERO;
+        }
+        let d = square_to_uniform_disk_concentric(u) * self.lens_radius;
+        d.x * self.right + d.y * self.true_up
+    }
+
+    /// The connection of scene point `p` to the camera, for light tracing (pbrt-v4's
+    /// `PerspectiveCamera::SampleWi`, Mitsuba 3's `sample_direction` of `perspective` and
+    /// `thinlens`): a lens point from `u_lens` (uniform over the aperture), the film position the
+    /// ray from it through `p` reaches, and the weight `We cos θ / pdf` by which a quantity arriving
+    /// at the lens along that ray is splatted. The importance `We = 1 / (A A_lens cos⁴ θ)` (`A`
+    /// the film's area at unit distance) makes the film the average of radiance over its area;
+    /// the density of the direction at `p` is `d² / (cos θ A_lens)`, so the weight is
+    /// `1 / (A cos³ θ d²)`, whatever the aperture. `None` for a point outside the view, nearer
+    /// than the near plane, or for an orthographic camera (whose directions form a delta
+    /// distribution no point can be connected through).
+    pub fn connect(&self, p: Vec3, u_lens: Vec2) -> Option<CameraConnection> {
+        if self.kind != CameraKind::Perspective {
+            return None;
+        }
+        let offset = self.lens_offset(u_lens);
+        let lens = self.eye + offset;
+        let v = p - lens;
+        let z = v.dot(self.forward);
+        if !(z > 0.0 && z >= self.near_clip) {
+            return None;
+        }
+        let pos = self.film_position(offset, v)?;
+        let dist = v.length();
+        let cos = z / dist;
+        Some(CameraConnection {
+            pos,
+            lens,
+            wi: -v / dist,
+            dist,
+            weight: 1.0 / (self.film_area() * cos * cos * cos * dist * dist),
+        })
+    }
+
+    /// [`Self::connect`] for a light at infinity seen along unit direction `w`: the lens point,
+    /// the film position and `We cos θ = 1 / (A cos³ θ)` (the density of `w` is the light's).
+    pub fn connect_direction(&self, w: Vec3, u_lens: Vec2) -> Option<CameraConnection> {
+        if self.kind != CameraKind::Perspective {
+            return None;
+        }
+        let offset = self.lens_offset(u_lens);
+        let pos = self.film_position(offset, w)?;
+        let cos = w.dot(self.forward);
+        Some(CameraConnection {
+            pos,
+            lens: self.eye + offset,
+            wi: -w,
+            dist: f32::INFINITY,
+            weight: 1.0 / (self.film_area() * cos * cos * cos),
+        })
+    }
+
     /// The ray through the centre of pixel `(i, j)`.
     pub fn pixel_ray(&self, i: u32, j: u32) -> Ray {
         self.ray(i as f32 + 0.5, j as f32 + 0.5)
     }
+}
+
+/// A scene point connected to the camera: see [`Camera::connect`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraConnection {
+    /// The film position in pixels.
+    pub pos: Vec2,
+    /// The point of the lens (the eye for a pinhole).
+    pub lens: Vec3,
+    /// Unit direction from the scene point toward `lens`.
+    pub wi: Vec3,
+    /// Distance from the scene point to `lens` (infinite for a direction).
+    pub dist: f32,
+    /// `We cos θ / pdf`: see [`Camera::connect`].
+    pub weight: f32,
 }
 
 #[cfg(test)]

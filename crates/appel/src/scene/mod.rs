@@ -11,7 +11,7 @@ mod scene_emitters;
 mod scene_media;
 
 use crate::description;
-pub use camera::Camera;
+pub use camera::{Camera, CameraConnection};
 pub use file_extras::FileExtras;
 pub use geometry::{
     Geometry, PrimRef, PrimRefs, SceneHit, Shape, ShapeKind, ShapeSource, NO_INSTANCE,

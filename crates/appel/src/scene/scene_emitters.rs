@@ -18,4 +18,7 @@ pub struct SceneEmitters {
     /// The delta emitters (points, spots, projectors, directional lights), in order: the lights
     /// of `whitted` and `raycast`, which shade from every one with a shadow ray.
     pub delta: Vec<u32>,
+    /// The scene's bounding sphere (centre, radius), through which an infinite light's rays
+    /// enter in light tracing.
+    pub sphere: (crate::math::Vec3, f32),
 }

@@ -113,6 +113,7 @@ impl SceneEmitters {
             of_shape,
             infinite,
             delta,
+            sphere: (center, radius),
         })
     }
 }

@@ -2,5 +2,7 @@
 //! each; the registry (`integrator_registry.rs`) names them.
 
 mod aov;
+mod ptracer;
 
 pub use aov::{AovChannel, AovParams, AovType};
+pub use ptracer::PtracerParams;

@@ -2,7 +2,10 @@
 //! side its normal points to only.
 
 use super::shape_sampler::ShapeSampler;
-use super::EmitterSample;
+use super::emission::sampled_point_error;
+use super::{EmitterRay, EmitterSample, PositionSample};
+use crate::shading::bsdf::warp::square_to_cosine_hemisphere;
+use crate::shading::frame::ShadingFrame;
 use crate::shading::texture::Texture;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -51,6 +54,41 @@ impl AreaEmitter {
         self.shape.pdf_direction(p, wi, light_point, light_normal)
     }
 
+    /// A point by area; its direction cosine-weighted about the normal (the emitter is
+    /// Lambertian), so that the ray carries `L π / pdf_pos`.
+    pub fn sample_ray(&self, u_pos: Vec2, u_dir: Vec2) -> Option<EmitterRay> {
+        let ps = self.sample_position(u_pos)?;
+        let local = square_to_cosine_hemisphere(u_dir);
+        if local.z <= 0.0 {
+            return None;
+        }
+        let dir = ShadingFrame::from_normal(ps.normal).to_world(local);
+        Some(EmitterRay {
+            origin: ps.point,
+            origin_error: ps.point_error,
+            dir,
+            normal: ps.normal,
+            weight: self.radiance.eval(ps.uv) * (PI / ps.pdf),
+            pdf_pos: ps.pdf,
+            pdf_dir: local.z / PI,
+        })
+    }
+
+    /// A point of the shape uniformly by area.
+    pub fn sample_position(&self, u: Vec2) -> Option<PositionSample> {
+        let (point, normal, uv, pdf) = self.shape.sample_area(u);
+        if !(pdf > 0.0) || !point.is_finite() {
+            return None;
+        }
+        Some(PositionSample {
+            point,
+            point_error: sampled_point_error(point, 1.0 / pdf.sqrt()),
+            normal,
+            uv,
+            pdf,
+        })
+    }
+
     /// Φ = π A L̄ for a one-sided Lambertian emitter, L̄ the texture's mean.
     pub fn power(&self) -> Vec3 {
         PI * self.shape.area() * self.radiance.mean()
@@ -75,6 +113,16 @@ impl super::EmitterPlugin for AreaEmitter {
     #[inline]
     fn radiance_area(&self, n: glam::Vec3, uv: glam::Vec2, w: glam::Vec3) -> glam::Vec3 {
         self.radiance(n, uv, w)
+    }
+
+    #[inline]
+    fn sample_ray(&self, u_pos: Vec2, u_dir: Vec2) -> Option<EmitterRay> {
+        AreaEmitter::sample_ray(self, u_pos, u_dir)
+    }
+
+    #[inline]
+    fn sample_position(&self, u: Vec2) -> Option<PositionSample> {
+        AreaEmitter::sample_position(self, u)
     }
 
     fn power(&self) -> glam::Vec3 {

@@ -5,6 +5,7 @@
 //! and the enum's per-call match are generated.
 
 pub mod distribution;
+mod emission;
 pub mod equal_area;
 mod light_picker;
 pub mod shape_sampler;
@@ -13,6 +14,7 @@ pub mod warp;
 #[cfg(test)]
 mod chi2_sphere;
 
+pub use emission::{EmitterRay, PositionSample};
 pub use light_picker::LightPicker;
 pub use shape_sampler::{ShapeSampler, TriangleSet};
 pub use sunsky::{SunPlacement, SunSkyParams, SunTime, SUN_APERTURE};
@@ -99,6 +101,28 @@ pub trait EmitterPlugin: Clone + std::fmt::Debug {
         None
     }
 
+    /// A ray leaving the light, for light tracing (Mitsuba's `Emitter::sample_ray`): a position
+    /// from `u_pos`, a direction from `u_dir`. Infinite lights leave this default, `None`: their
+    /// rays enter through the scene's bounding sphere, which [`Emitter::sample_ray`] builds from
+    /// `sample_li` (see `emission.rs`).
+    fn sample_ray(&self, _u_pos: Vec2, _u_dir: Vec2) -> Option<EmitterRay> {
+        const { assert!(Self::INFINITE, "a finite emitter defines sample_ray") };
+        None
+    }
+
+    /// A point of the light's surface by area (Mitsuba's `Emitter::sample_position`), which light
+    /// tracing connects to the camera to show emitters seen directly. The default, `None`, is that
+    /// of lights with no surface (delta or infinite), which no camera ray hits.
+    fn sample_position(&self, _u: Vec2) -> Option<PositionSample> {
+        const {
+            assert!(
+                Self::DELTA || Self::INFINITE,
+                "a surface emitter defines sample_position"
+            )
+        };
+        None
+    }
+
     /// Emitted power (flux) per channel, by which the light picker chooses among emitters.
     /// Infinite lights count what crosses the scene's bounding sphere (see
     /// [`Self::set_scene_bounds`]).
@@ -167,6 +191,26 @@ macro_rules! define_emitters {
             pub fn radiance_env(&self, d: Vec3) -> Vec3 {
                 match self {
                     $(Emitter::$Variant(l) => EmitterPlugin::radiance_env(l, d),)*
+                }
+            }
+
+            /// A ray leaving the light (see [`EmitterPlugin::sample_ray`]); an infinite light's
+            /// enters the scene's bounding sphere `(centre, radius)` (see `emission.rs`).
+            #[inline]
+            pub fn sample_ray(&self, u_pos: Vec2, u_dir: Vec2, sphere: (Vec3, f32)) -> Option<EmitterRay> {
+                if self.is_infinite() {
+                    return emission::infinite_ray(self, u_pos, u_dir, sphere);
+                }
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::sample_ray(l, u_pos, u_dir),)*
+                }
+            }
+
+            /// See [`EmitterPlugin::sample_position`].
+            #[inline]
+            pub fn sample_position(&self, u: Vec2) -> Option<PositionSample> {
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::sample_position(l, u),)*
                 }
             }
 

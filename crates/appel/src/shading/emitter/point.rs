@@ -1,6 +1,7 @@
 //! Mitsuba's `point` emitter: an isotropic point of radiant intensity.
 
-use super::EmitterSample;
+use super::emission::uniform_sphere;
+use super::{EmitterRay, EmitterSample};
 use glam::Vec3;
 use std::f32::consts::PI;
 
@@ -46,6 +47,20 @@ impl super::EmitterPlugin for PointLight {
 
     fn sample_li(&self, p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
         PointLight::sample_li(self, p)
+    }
+
+    /// Uniform directions: the ray carries `4π I`.
+    fn sample_ray(&self, _u_pos: glam::Vec2, u_dir: glam::Vec2) -> Option<EmitterRay> {
+        let (dir, pdf_dir) = uniform_sphere(u_dir);
+        Some(EmitterRay {
+            origin: self.position,
+            origin_error: Vec3::ZERO,
+            dir,
+            normal: Vec3::ZERO,
+            weight: self.intensity / pdf_dir,
+            pdf_pos: 1.0,
+            pdf_dir,
+        })
     }
 
     fn power(&self) -> glam::Vec3 {

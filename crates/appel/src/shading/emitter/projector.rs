@@ -3,7 +3,7 @@
 //! pinhole; its value there is the irradiance (times π and `scale`) that a plane perpendicular to
 //! the axis at unit distance receives, so that a constant image lights such a plane uniformly.
 
-use super::EmitterSample;
+use super::{EmitterRay, EmitterSample};
 use crate::shading::texture::Texture;
 use glam::{Mat4, Vec2, Vec3};
 use std::f32::consts::PI;
@@ -13,6 +13,7 @@ pub struct Projector {
     /// Projector-to-world transform: the pinhole at the origin looking down +z, image x to the
     /// left (+x) and up (+y) as in Mitsuba's `lookat`.
     from_world: Mat4,
+    to_world: Mat4,
     position: Vec3,
     /// The local +z axis in world space (not normalized when `to_world` scales, as in Mitsuba).
     axis: Vec3,
@@ -35,6 +36,7 @@ impl Projector {
     ) -> Self {
         Self {
             from_world: to_world.inverse(),
+            to_world,
             position: to_world.transform_point3(Vec3::ZERO),
             axis: to_world.transform_vector3(Vec3::Z),
             irradiance,
@@ -102,6 +104,46 @@ impl super::EmitterPlugin for Projector {
 
     fn sample_li(&self, p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
         Projector::sample_li(self, p)
+    }
+
+    /// A point of the image rectangle at z = 1, uniformly by area, and the direction through it.
+    /// The intensity toward world direction `w` is `sample_li`'s weight at unit distance,
+    /// `π scale E / (z_w² cos θ)`; the direction's density is the rectangle's, `1 / area`, times
+    /// `|q|³` (from the plane to directions at the pinhole) and the transform's change of solid
+    /// angle, `|M q̂|³ / |det M|` (1 for a rotation).
+    fn sample_ray(&self, _u_pos: glam::Vec2, u_dir: glam::Vec2) -> Option<EmitterRay> {
+        let half_y = self.tan_half_x / self.aspect;
+        let q = Vec3::new(
+            (1.0 - 2.0 * u_dir.x) * self.tan_half_x,
+            (1.0 - 2.0 * u_dir.y) * half_y,
+            1.0,
+        );
+        let uv = self.uv(q)?;
+        let area = 4.0 * self.tan_half_x * half_y;
+        let q_len = q.length();
+        let mq = self.to_world.transform_vector3(q / q_len);
+        let det = glam::Mat3::from_mat4(self.to_world).determinant().abs();
+        let mq_len = mq.length();
+        if !(det > 0.0 && mq_len > 0.0) {
+            return None;
+        }
+        let dir = mq / mq_len;
+        let pdf_dir = q_len.powi(3) * mq_len.powi(3) / (det * area);
+        let z = self.from_world.transform_vector3(dir).z;
+        let cos_theta = self.axis.dot(dir);
+        if !(z > 0.0 && cos_theta > 0.0) {
+            return None;
+        }
+        let intensity = self.irradiance.eval(uv) * (PI * self.scale / (z * z * cos_theta));
+        Some(EmitterRay {
+            origin: self.position,
+            origin_error: Vec3::ZERO,
+            dir,
+            normal: Vec3::ZERO,
+            weight: intensity / pdf_dir,
+            pdf_pos: 1.0,
+            pdf_dir,
+        })
     }
 
     fn power(&self) -> glam::Vec3 {

@@ -2,7 +2,8 @@
 //! falls linearly in angle to zero at `cutoff_angle`, optionally modulated by a texture projected
 //! through the cone.
 
-use super::EmitterSample;
+use super::emission::uniform_cone;
+use super::{EmitterRay, EmitterSample};
 use crate::shading::texture::Texture;
 use glam::{Mat4, Vec2, Vec3};
 use std::f32::consts::PI;
@@ -136,6 +137,26 @@ impl super::EmitterPlugin for SpotLight {
 
     fn sample_li(&self, p: glam::Vec3, _u: glam::Vec2) -> Option<super::EmitterSample> {
         SpotLight::sample_li(self, p)
+    }
+
+    /// Uniform directions in the cone of the cutoff angle (Mitsuba's `spot`): the ray carries
+    /// the intensity toward it over that density. Directions are mapped by the light's
+    /// transform, a rotation for Mitsuba's `lookat` (a scale would change the densities).
+    fn sample_ray(&self, _u_pos: glam::Vec2, u_dir: glam::Vec2) -> Option<EmitterRay> {
+        let (local, pdf_dir) = uniform_cone(u_dir, self.cos_cutoff);
+        let i = self.intensity_toward(local);
+        if i == Vec3::ZERO {
+            return None;
+        }
+        Some(EmitterRay {
+            origin: self.position,
+            origin_error: Vec3::ZERO,
+            dir: self.to_world.transform_vector3(local).normalize(),
+            normal: Vec3::ZERO,
+            weight: i / pdf_dir,
+            pdf_pos: 1.0,
+            pdf_dir,
+        })
     }
 
     fn power(&self) -> glam::Vec3 {

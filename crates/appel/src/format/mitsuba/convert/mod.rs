@@ -359,6 +359,16 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
             r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
         }
+        "ptracer" => {
+            r.integrator = IntegratorName::Ptracer;
+            r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
+            r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
+            // Mitsuba's -1 (the default): everything in one pass.
+            let per_pass = i.int_in("samples_per_pass", -1..=u32::MAX as i64)?;
+            r.ptracer = Some(crate::description::PtracerParams {
+                samples_per_pass: per_pass.map_or(0, |n| n.max(0) as u32),
+            });
+        }
         "volpath" => {
             r.integrator = IntegratorName::VolPath;
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
@@ -366,7 +376,9 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
         }
         "volpathmis" => {
             return Err(i.error(
-                "Appel has no volpathmis: its volpath samples distances with one RGB channel                  chosen per path, and the spectral MIS over the channels (Miller et al. 2019)                  that volpathmis adds is not implemented; use volpath",
+                "Appel has no volpathmis: its volpath samples distances with one RGB channel \
+                 chosen per path, and the spectral MIS over the channels (Miller et al. 2019) \
+                 that volpathmis adds is not implemented; use volpath",
             ))
         }
         "direct" => {
@@ -376,7 +388,7 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
         }
         p => {
             return Err(i.error(format!(
-                "unsupported integrator plugin \"{p}\" (supported: path, volpath, direct, aov, moment)"
+                "unsupported integrator plugin \"{p}\" (supported: path, volpath, ptracer, direct, aov, moment)"
             )))
         }
     }

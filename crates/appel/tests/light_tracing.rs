@@ -1,0 +1,225 @@
+//! The particle tracer (`ptracer`): the image it estimates from the lights is the path tracer's
+//! (a z-test of one against the other, pixel by pixel, through a pinhole and a thin lens), and
+//! it is bit-identical for any number of threads and in a window of the image.
+
+use appel::description::{description_from_str, parse::Syntax};
+use appel::render::{render, Film, RenderOptions, Window};
+use appel::scene::Scene;
+use std::path::Path;
+
+fn scene(toml: &str) -> Scene {
+    let d = description_from_str(toml, Syntax::Toml, Path::new("light.toml")).unwrap();
+    Scene::new(&d, Path::new(".")).unwrap()
+}
+
+/// A diffuse floor and back wall, a rough plastic ball and a rough metal ball, lit by an area
+/// light facing down, a point light and a spot: every kind of light ray `ptracer` starts, seen
+/// directly and after bounces. Nothing is a mirror: a light tracer cannot show what the camera
+/// sees through a delta reflection (no connection reaches the camera from a mirror).
+fn room(integrator: &str, spp: u32, extra_camera: &str, filter: &str) -> String {
+    format!(
+        "[camera]\neye = [0.0, 1.2, 4.0]\nlook_at = [0.0, 0.6, 0.0]\nwidth = 32\nheight = 24\n\
+         fov = 45\n{extra_camera}\n\
+         [render]\nintegrator = \"{integrator}\"\nmax_depth = 5\nspp = {spp}\n\
+         filter = {{ type = \"{filter}\" }}\n\n\
+         [materials.white]\ntype = \"diffuse\"\nreflectance = [0.7, 0.7, 0.7]\n\
+         [materials.red]\ntype = \"roughplastic\"\ndiffuse_reflectance = [0.6, 0.1, 0.1]\n\
+         [materials.metal]\ntype = \"roughconductor\"\nalpha = 0.3\n\n\
+         [[shape]]\ntype = \"rectangle\"\nmaterial = \"white\"\n\
+         transform = {{ scale = [3.0, 3.0, 1.0], rotate = {{ axis = [1.0, 0.0, 0.0], degrees = -90.0 }} }}\n\
+         [[shape]]\ntype = \"rectangle\"\nmaterial = \"white\"\n\
+         transform = {{ scale = [3.0, 2.0, 1.0], translate = [0.0, 2.0, -1.5] }}\n\
+         [[shape]]\ntype = \"sphere\"\ncenter = [-0.5, 0.4, 0.0]\nradius = 0.4\nmaterial = \"red\"\n\
+         [[shape]]\ntype = \"sphere\"\ncenter = [0.6, 0.3, 0.4]\nradius = 0.3\nmaterial = \"metal\"\n\
+         [[shape]]\ntype = \"rectangle\"\n\
+         transform = {{ scale = [0.4, 0.4, 1.0], rotate = {{ axis = [1.0, 0.0, 0.0], degrees = 90.0 }}, translate = [0.0, 1.8, 0.2] }}\n\
+         emitter = {{ radiance = [6.0, 5.0, 4.0] }}\n\
+         [[light]]\ntype = \"point\"\nposition = [1.2, 1.0, 1.0]\nintensity = 1.5\n\
+         [[light]]\ntype = \"spot\"\nposition = [-1.0, 1.6, 1.0]\nlook_at = [-1.0, 0.0, 0.6]\n\
+         intensity = 4.0\ncutoff_angle = 25.0\n"
+    )
+}
+
+const LENS: &str = "aperture_radius = 0.15\nfocus_distance = 3.5\n";
+
+fn film(toml: &str) -> Film {
+    render(&scene(toml), &RenderOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0
+}
+
+/// erfc to 1.2e-7 (Numerical Recipes' Chebyshev fit).
+fn erfc(x: f64) -> f64 {
+    let z = x.abs();
+    let t = 1.0 / (1.0 + 0.5 * z);
+    let r = t
+        * (-z * z - 1.265_512_23
+            + t * (1.000_023_68
+                + t * (0.374_091_96
+                    + t * (0.096_784_18
+                        + t * (-0.186_288_06
+                            + t * (0.278_868_07
+                                + t * (-1.135_203_98
+                                    + t * (1.488_515_87
+                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
+            .exp();
+    if x >= 0.0 {
+        r
+    } else {
+        2.0 - r
+    }
+}
+
+/// Each pixel's variance as the largest of its 3x3 neighbourhood's: where a pixel's estimate
+/// rests on a few heavy-tailed samples (the edge of an emitter seen by a handful of camera rays),
+/// its own spread understates its variance (as in `reference/mod.rs`, after Mitsuba's tests).
+fn neighbourhood_variance(f: &Film) -> Vec<[f64; 3]> {
+    let (w, h) = (f.width as i64, f.height as i64);
+    (0..w * h)
+        .map(|k| {
+            let (x, y) = (k % w, k / w);
+            let mut v = [0.0f64; 3];
+            for j in (y - 1).max(0)..=(y + 1).min(h - 1) {
+                for i in (x - 1).max(0)..=(x + 1).min(w - 1) {
+                    let o = f.variance[(j * w + i) as usize];
+                    for c in 0..3 {
+                        v[c] = v[c].max(o[c] as f64);
+                    }
+                }
+            }
+            v
+        })
+        .collect()
+}
+
+/// The smallest two-sided p-value of the per-pixel, per-channel z-tests of `a` against `b`
+/// (two independent estimates, each with its own variance, see [`neighbourhood_variance`],
+/// floored at `1e-6`), against the Šidák threshold for a 1% chance of a false failure; and each
+/// channel's ratio of the image means with its standard error.
+fn agreement(a: &Film, b: &Film) -> (f64, f64, [(f64, f64); 3]) {
+    let n = a.rgb.len();
+    let (var_a, var_b) = (neighbourhood_variance(a), neighbourhood_variance(b));
+    let alpha = 1.0 - 0.99f64.powf(1.0 / (3 * n) as f64);
+    let mut min_p = 1.0f64;
+    let mut sums = [[0.0f64; 4]; 3];
+    for k in 0..n {
+        for c in 0..3 {
+            let (x, y) = (a.rgb[k][c] as f64, b.rgb[k][c] as f64);
+            let (vx, vy) = (var_a[k][c], var_b[k][c]);
+            let z = (x - y) / (vx + vy).max(1e-6).sqrt();
+            let p = erfc(z.abs() / std::f64::consts::SQRT_2);
+            if p < min_p {
+                min_p = p;
+                if std::env::var_os("APPEL_TEST_VERBOSE").is_some() {
+                    eprintln!(
+                        "pixel {k} channel {c}: {x} +- {} vs {y} +- {}",
+                        vx.sqrt(),
+                        vy.sqrt()
+                    );
+                }
+            }
+            sums[c][0] += x;
+            sums[c][1] += y;
+            sums[c][2] += a.variance[k][c] as f64;
+            sums[c][3] += b.variance[k][c] as f64;
+        }
+    }
+    let ratios = sums.map(|[x, y, vx, vy]| {
+        let r = x / y;
+        (r, r * ((vx / (x * x)) + (vy / (y * y))).sqrt())
+    });
+    (min_p, alpha, ratios)
+}
+
+fn assert_agree(what: &str, a: &Film, b: &Film) {
+    let (min_p, alpha, ratios) = agreement(a, b);
+    eprintln!("{what}: min p {min_p:.3e} (threshold {alpha:.3e}), mean ratios {ratios:?}");
+    assert!(min_p >= alpha, "{what}: min p {min_p} < {alpha}");
+    for (r, e) in ratios {
+        assert!(
+            (r - 1.0).abs() <= 4.0 * e + 1e-3,
+            "{what}: ratio {r} +- {e}"
+        );
+    }
+}
+
+/// Light tracing and path tracing estimate the same image: pixel by pixel within their noise,
+/// through a pinhole and through a thin lens (whose connections sample the aperture). The box
+/// filter keeps the pixels' estimates independent. A 3% darker image fails the test.
+#[test]
+fn ptracer_agrees_with_path() {
+    for lens in ["", LENS] {
+        let pt = film(&room("ptracer", 512, lens, "box"));
+        let path = film(&room("path", 512, lens, "box"));
+        assert!(pt.rgb.iter().all(|c| c.is_finite()));
+        assert_agree(
+            if lens.is_empty() {
+                "pinhole"
+            } else {
+                "thin lens"
+            },
+            &pt,
+            &path,
+        );
+        if lens.is_empty() {
+            let mut darker = pt.clone();
+            darker.rgb.iter_mut().for_each(|c| *c *= 0.97);
+            let (_, _, ratios) = agreement(&darker, &path);
+            assert!(ratios.iter().any(|(r, e)| (r - 1.0).abs() > 4.0 * e + 1e-3));
+        }
+    }
+}
+
+/// The same image, bits and variances, for any number of threads (splats cross the chunks'
+/// and pixels' borders through the tent filter), and a window holds the full image's pixels.
+#[test]
+fn ptracer_images_do_not_depend_on_threads_or_windows() {
+    let s = scene(&room("ptracer", 6, LENS, "tent"));
+    let at = |threads: usize, window: Option<Window>| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                render(
+                    &s,
+                    &RenderOptions {
+                        window,
+                        ..Default::default()
+                    },
+                )
+                .unwrap()
+                .0
+            })
+    };
+    let one = at(1, None);
+    assert!(one.rgb.iter().filter(|c| c.x > 0.0).count() > 100);
+    for threads in [2, 3] {
+        let other = at(threads, None);
+        assert_eq!(one.rgb, other.rgb, "{threads} threads");
+        assert_eq!(one.variance, other.variance, "{threads} threads");
+        assert_eq!(one.shape_id, other.shape_id);
+    }
+    let w = Window {
+        x0: 5,
+        y0: 3,
+        x1: 29,
+        y1: 20,
+    };
+    let part = at(2, Some(w));
+    for y in w.y0..w.y1 {
+        for x in w.x0..w.x1 {
+            let i = part.index(x - w.x0, y - w.y0);
+            assert_eq!(part.rgb[i], one.pixel(x, y));
+            assert_eq!(part.depth[i], one.depth[one.index(x, y)]);
+        }
+    }
+}
+
+/// An orthographic camera cannot be reached from the lights: an error, not a black image.
+#[test]
+fn ptracer_refuses_an_orthographic_camera() {
+    let toml = room("ptracer", 1, "type = \"orthographic\"\n", "box");
+    let e = render(&scene(&toml), &RenderOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("perspective camera"), "{e}");
+}
