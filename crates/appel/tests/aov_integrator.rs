@@ -193,5 +193,8 @@ fn a_bad_aov_type_is_an_error_at_its_line() {
     let e = appel::format::load(&path, &Default::default())
         .unwrap_err()
         .to_string();
-    assert!(e.contains("raycast, whitted, path, direct, aov"), "{e}");
+    assert!(
+        e.contains("raycast, whitted, path, direct, volpath, aov"),
+        "{e}"
+    );
 }

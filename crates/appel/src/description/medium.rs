@@ -47,6 +47,15 @@ pub enum VolumeNode {
     /// A Mitsuba `.vol` grid of one or three channels, its samples at the centres of the cells
     /// that divide the unit cube, interpolated trilinearly (or `filter = "nearest"`) and clamped
     /// at the border.
+    /// A grid written out in the scene (pbrt's `uniformgrid`): `channels` (1 or 3) values per
+    /// cell, x fastest, looked up as a `gridvolume`'s.
+    Values {
+        resolution: [usize; 3],
+        channels: usize,
+        values: Vec<f32>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        transform: Option<TransformDesc>,
+    },
     GridVolume {
         /// Relative to the scene file's folder.
         file: String,
@@ -72,7 +81,7 @@ impl VolumeDesc {
             VolumeDesc::Value(v) => Some([*v; 3]),
             VolumeDesc::Rgb(c) => Some(*c),
             VolumeDesc::Volume(VolumeNode::ConstVolume { value, .. }) => Some(value.rgb()),
-            VolumeDesc::Volume(VolumeNode::GridVolume { .. }) => None,
+            VolumeDesc::Volume(VolumeNode::GridVolume { .. } | VolumeNode::Values { .. }) => None,
         }
     }
 
@@ -91,6 +100,27 @@ impl VolumeDesc {
                 return Err(ParamError::new(key, "a gridvolume needs a `file`"));
             }
         }
+        if let VolumeDesc::Volume(VolumeNode::Values {
+            resolution,
+            channels,
+            values,
+            ..
+        }) = self
+        {
+            let cells = resolution.iter().product::<usize>();
+            if !matches!(channels, 1 | 3) || cells == 0 || values.len() != cells * channels {
+                return Err(ParamError::new(
+                    key,
+                    format!(
+                        "a grid of {resolution:?} cells and {channels} channel(s) (1 or 3) needs \
+                         {} values, got {}",
+                        cells * channels,
+                        values.len()
+                    ),
+                ));
+            }
+            super::param_error::non_negative(key, values)?;
+        }
         Ok(())
     }
 
@@ -99,7 +129,8 @@ impl VolumeDesc {
         match self {
             VolumeDesc::Volume(
                 VolumeNode::ConstVolume { transform, .. }
-                | VolumeNode::GridVolume { transform, .. },
+                | VolumeNode::GridVolume { transform, .. }
+                | VolumeNode::Values { transform, .. },
             ) => transform.as_ref(),
             _ => None,
         }

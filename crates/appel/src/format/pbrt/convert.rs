@@ -33,6 +33,9 @@ pub(super) struct Attributes {
     pub material: Option<Converted>,
     pub area_light: Option<AreaLight>,
     pub reverse_orientation: bool,
+    /// `MediumInterface`: the media inside and outside the shapes that follow (`None`: vacuum).
+    pub medium_inside: Option<String>,
+    pub medium_outside: Option<String>,
 }
 
 /// An `AreaLightSource "diffuse"` in effect: the radiance of the shapes that follow.
@@ -72,6 +75,10 @@ pub(super) struct Converter {
     pub object: Option<(String, Vec<Placed>, Loc)>,
     pub warnings: Vec<String>,
     names: usize,
+    /// `MakeNamedMedium`s.
+    pub media: BTreeMap<String, crate::description::MediumDesc>,
+    /// The outside medium when `Camera` was given: the camera's.
+    camera_medium: Option<String>,
 }
 
 pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
@@ -85,6 +92,8 @@ pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
             material: None,
             area_light: None,
             reverse_orientation: false,
+            medium_inside: None,
+            medium_outside: None,
         },
         stack: Vec::new(),
         named_coords: HashMap::new(),
@@ -103,6 +112,8 @@ pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
         object: None,
         warnings: Vec::new(),
         names: 0,
+        media: BTreeMap::new(),
+        camera_medium: None,
     };
     let mut recorder = Recorder::default();
     while let Some(d) = c.parser.directive()? {
@@ -127,7 +138,13 @@ pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
             .end_loc()
             .error("the file has no WorldBegin: a pbrt scene describes its world after it"));
     }
-    let (camera, render) = c.options.finish(&c.mirror)?;
+    let (mut camera, mut render) = c.options.finish(&c.mirror)?;
+    camera.medium = c.camera_medium.take();
+    // pbrt-v4's default integrator, and its volpath, see media; its path does not (nor does
+    // Appel's).
+    if !c.media.is_empty() && c.options.volumetric() {
+        render.integrator = crate::description::IntegratorName::VolPath;
+    }
     Ok(PbrtScene {
         description: Description {
             camera,
@@ -136,7 +153,7 @@ pub fn convert(text: &str, path: &Path) -> Result<PbrtScene> {
             materials: std::mem::take(&mut c.materials),
             shapes: std::mem::take(&mut c.shapes),
             lights: std::mem::take(&mut c.lights),
-            media: Default::default(),
+            media: std::mem::take(&mut c.media),
             meshes: std::mem::take(&mut c.meshes),
             instances: std::mem::take(&mut c.instances),
             animation: None,
@@ -161,6 +178,11 @@ impl Converter {
     /// pbrt's world-from-object transform as the description's (mirrored if need be).
     pub fn to_description(&self, ctm: &DMat4) -> DMat4 {
         self.mirror * *ctm
+    }
+
+    /// Whether `WorldBegin` has been read.
+    pub(super) fn in_world(&self) -> bool {
+        self.in_world
     }
 
     fn world_only(&self, d: &Directive) -> Result<()> {
@@ -272,6 +294,7 @@ impl Converter {
                 }
                 self.named_coords
                     .insert("camera".to_string(), camera_to_world);
+                self.camera_medium = self.attrs.medium_outside.clone();
             }
             "Film" => {
                 self.options_only(d)?;
@@ -307,20 +330,8 @@ impl Converter {
                     .insert("world".to_string(), DMat4::IDENTITY);
             }
             "WorldEnd" => self.world_only(d)?,
-            "MakeNamedMedium" => {
-                return Err(d.loc.error(
-                    "participating media (MakeNamedMedium) are not supported: Appel renders \
-                     surfaces in vacuum",
-                ))
-            }
-            "MediumInterface" => {
-                if d.strings.iter().any(|s| !s.is_empty()) {
-                    return Err(d.loc.error(
-                        "participating media (MediumInterface) are not supported: Appel renders \
-                         surfaces in vacuum",
-                    ));
-                }
-            }
+            "MakeNamedMedium" => self.named_medium(d)?,
+            "MediumInterface" => self.medium_interface(d)?,
             "Attribute" => {
                 return Err(d.loc.error(
                     "Attribute (default parameters for a kind of directive) is not supported",

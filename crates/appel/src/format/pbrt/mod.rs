@@ -8,6 +8,7 @@
 mod convert;
 mod lights;
 mod materials;
+mod media;
 mod options;
 mod origins;
 mod params;

@@ -17,6 +17,9 @@ pub(super) struct SceneOptions {
     filter: Option<FilterDesc>,
     /// Mitsuba's `max_depth` (pbrt's `maxdepth` plus one).
     max_depth: Option<i32>,
+    /// Whether the `Integrator` renders media (`volpath`, pbrt-v4's default, and
+    /// `simplevolpath`); `None` before an `Integrator`.
+    volumetric: Option<bool>,
 }
 
 struct Camera {
@@ -210,6 +213,7 @@ impl SceneOptions {
     /// 2009), so they are rendered with it and a warning says so; an integrator that computes
     /// something else (ambient occlusion, AOVs) is an error.
     pub fn integrator(&mut self, d: &Directive, warnings: &mut Vec<String>) -> Result<()> {
+        self.volumetric = Some(matches!(d.strings[0].as_str(), "volpath" | "simplevolpath"));
         match d.strings[0].as_str() {
             "path" | "volpath" => {}
             same @ ("bdpt" | "mlt" | "sppm" | "lightpath" | "simplepath" | "randomwalk"
@@ -245,6 +249,11 @@ impl SceneOptions {
             return Err(at.error("\"regularize\" (a biased roughening) is not supported"));
         }
         Ok(())
+    }
+
+    /// Whether the scene's integrator renders media (pbrt-v4's default, `volpath`, does).
+    pub fn volumetric(&self) -> bool {
+        self.volumetric.unwrap_or(true)
     }
 
     fn camera_to_world(&self) -> DMat4 {

@@ -54,12 +54,29 @@ pub(super) struct Placed {
     ctm: DMat4,
     material: Option<Converted>,
     reverse: bool,
+    /// The media inside and outside, where they differ (pbrt-v4: only a transition bounds a
+    /// medium).
+    media: (Option<String>, Option<String>),
     loc: Loc,
 }
 
+/// The material of pbrt's `interface` shapes that bound a medium.
+const INTERFACE_MATERIAL: &str = "pbrt_interface";
+
 impl Converter {
+    /// The graphics state's media for a shape: both sides where they differ, none otherwise.
+    fn shape_media(&self) -> (Option<String>, Option<String>) {
+        let (inside, outside) = (&self.attrs.medium_inside, &self.attrs.medium_outside);
+        if inside == outside {
+            (None, None)
+        } else {
+            (inside.clone(), outside.clone())
+        }
+    }
+
     pub(super) fn shape(&mut self, d: &Directive) -> Result<()> {
         let shape = Rc::new(self.read_shape(d)?);
+        let media = self.shape_media();
         if let Some((name, shapes, _)) = &mut self.object {
             if self.attrs.area_light.is_some() {
                 return Err(d.loc.error(format!(
@@ -72,6 +89,7 @@ impl Converter {
                 ctm: self.attrs.ctm,
                 material: self.attrs.material.clone(),
                 reverse: self.attrs.reverse_orientation,
+                media: media.clone(),
                 loc: d.loc.clone(),
             });
             return Ok(());
@@ -81,6 +99,7 @@ impl Converter {
             ctm: self.attrs.ctm,
             material: self.attrs.material.clone(),
             reverse: self.attrs.reverse_orientation,
+            media,
             loc: d.loc.clone(),
         };
         let light = self.attrs.area_light.clone();
@@ -171,13 +190,22 @@ impl Converter {
     ) -> Result<Option<ShapeDesc>> {
         let material = match &s.material {
             Some(Converted::Interface) => {
-                // An interface only bounds a medium; without media there is nothing to see.
                 if let Some(l) = light {
                     return Err(l.loc.error(
                         "an area light on a shape whose material is \"interface\" (invisible)",
                     ));
                 }
-                return Ok(None);
+                // An interface only bounds a medium: without one there is nothing to see, with
+                // one it is Mitsuba's null BSDF.
+                if s.media == (None, None) {
+                    return Ok(None);
+                }
+                self.materials
+                    .entry(INTERFACE_MATERIAL.to_string())
+                    .or_insert(crate::description::MaterialDesc::Null(
+                        crate::description::NullDesc {},
+                    ));
+                INTERFACE_MATERIAL.to_string()
             }
             Some(Converted::Surface { name, .. }) => name.clone(),
             None => self.default_material(),
@@ -229,8 +257,8 @@ impl Converter {
                     })
                     .collect();
                 ShapeDesc::TriangleMesh(TriangleMeshDesc {
-                    interior: None,
-                    exterior: None,
+                    interior: s.media.0.clone(),
+                    exterior: s.media.1.clone(),
                     positions: world,
                     indices,
                     normals: world_normals,
@@ -258,8 +286,8 @@ impl Converter {
                     ));
                 }
                 ShapeDesc::Sphere(SphereDesc {
-                    interior: None,
-                    exterior: None,
+                    interior: s.media.0.clone(),
+                    exterior: s.media.1.clone(),
                     center: f32s(m.transform_point3(DVec3::ZERO)),
                     radius: (radius * scale) as f32,
                     material: Some(material),
@@ -272,8 +300,8 @@ impl Converter {
                     * DMat4::from_scale(DVec3::new(*radius, *radius, 1.0));
                 let full = m * local;
                 ShapeDesc::Disk(BasicShapeDesc {
-                    interior: None,
-                    exterior: None,
+                    interior: s.media.0.clone(),
+                    exterior: s.media.1.clone(),
                     transform: Some(TransformDesc {
                         matrix: Some(rows(&full)),
                         ..TransformDesc::default()

@@ -105,9 +105,19 @@ fn errors_name_the_file_and_line() {
     let e = err(&format!("{CAMERA}WorldBegin\nFoo 1 2\n"));
     assert!(e.contains("a.pbrt:5:1") && e.contains("Foo"), "{e}");
     let e = err(&format!(
-        "{CAMERA}WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
+        "{CAMERA}WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"rgbgrid\"\n"
     ));
-    assert!(e.contains("a.pbrt:5:1") && e.contains("media"), "{e}");
+    assert!(
+        e.contains("a.pbrt:5:") && e.contains("unsupported medium \"rgbgrid\""),
+        "{e}"
+    );
+    let e = err(&format!(
+        "{CAMERA}WorldBegin\nMediumInterface \"fog\" \"\"\n"
+    ));
+    assert!(
+        e.contains("a.pbrt:5:1") && e.contains("no medium is named \"fog\""),
+        "{e}"
+    );
     let e = err(&format!("{CAMERA}WorldBegin\nShape \"cylinder\"\n"));
     assert!(e.contains("unsupported shape \"cylinder\""), "{e}");
     let e = err(&format!("{CAMERA}WorldBegin\nInclude \"nowhere.pbrt\"\n"));
@@ -420,4 +430,74 @@ fn lens_parameters_make_a_thin_lens() {
         let e = err(&camera(params));
         assert!(e.ends_with(expected), "expected {expected}\n     got {e}");
     }
+}
+
+/// pbrt-v4's media: a homogeneous medium inside an `interface` sphere and around the camera,
+/// the default integrator rendering them, and a uniform grid as a three-channel grid of
+/// extinction over its box.
+#[test]
+fn media_and_their_interfaces() {
+    let s = load(&format!(
+        "MakeNamedMedium \"air\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [0.01 0.02 0.03] \
+         \"rgb sigma_s\" [0.1 0.1 0.1]\nMediumInterface \"\" \"air\"\n{CAMERA}WorldBegin\n\
+         MakeNamedMedium \"ink\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [1 2 3] \
+         \"rgb sigma_s\" [1 0 1] \"float scale\" 2 \"float g\" 0.5\n\
+         AttributeBegin\nMaterial \"interface\"\nMediumInterface \"ink\" \"air\"\n\
+         Shape \"sphere\" \"float radius\" 1\nAttributeEnd\n\
+         AttributeBegin\nMaterial \"interface\"\nMediumInterface \"air\"\nShape \"sphere\" \"float radius\" 3\n\
+         AttributeEnd\nAttributeBegin\nMaterial \"interface\"\nShape \"sphere\" \"float radius\" 5\nAttributeEnd\n\
+         MakeNamedMedium \"smoke\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"integer ny\" 1 \
+         \"integer nz\" 1 \"float density\" [0.5 1] \"point3 p0\" [-1 -1 -1] \"point3 p1\" [1 1 1] \
+         \"rgb sigma_a\" [0 0 0] \"rgb sigma_s\" [1 2 4]\n"
+    ))
+    .unwrap();
+    let d = &s.description;
+    assert_eq!(d.render.integrator, IntegratorName::VolPath);
+    assert_eq!(d.camera.medium.as_deref(), Some("air"));
+    // The interface sphere whose two sides are the same medium bounds nothing: it is dropped.
+    // AttributeEnd restores the state before it (vacuum inside, air outside).
+    assert_eq!(d.shapes.len(), 2);
+    let ShapeDesc::Sphere(outer) = &d.shapes[1] else {
+        panic!("{:?}", d.shapes)
+    };
+    assert_eq!((outer.radius, outer.interior.as_deref()), (5.0, None));
+    assert_eq!(outer.exterior.as_deref(), Some("air"));
+    let ShapeDesc::Sphere(sphere) = &d.shapes[0] else {
+        panic!("{:?}", d.shapes)
+    };
+    assert_eq!(sphere.interior.as_deref(), Some("ink"));
+    assert_eq!(sphere.exterior.as_deref(), Some("air"));
+    assert!(matches!(
+        d.materials[sphere.material.as_deref().unwrap()],
+        MaterialDesc::Null(_)
+    ));
+    let MediumDesc::Homogeneous(ink) = &d.media["ink"] else {
+        panic!()
+    };
+    let (sigma_t, albedo) = ink.sigma_t_albedo();
+    assert_eq!(sigma_t, [2.0, 2.0, 4.0]);
+    assert_eq!(albedo, VolumeDesc::Rgb([0.5, 0.0, 0.25]));
+    assert_eq!(
+        (ink.scale, &ink.phase),
+        (2.0, &PhaseDesc::Hg(HgDesc { g: 0.5 }))
+    );
+    let MediumDesc::Heterogeneous(smoke) = &d.media["smoke"] else {
+        panic!()
+    };
+    let VolumeDesc::Volume(VolumeNode::Values {
+        resolution,
+        channels,
+        values,
+        transform,
+    }) = &smoke.sigma_t
+    else {
+        panic!("{:?}", smoke.sigma_t)
+    };
+    assert_eq!((*resolution, *channels), ([2, 1, 1], 3));
+    assert_eq!(values, &vec![0.5, 1.0, 2.0, 1.0, 2.0, 4.0]);
+    // The unit cube onto the box [-1, 1]^3 (the camera's frame keeps the world unmirrored).
+    let m = transform.as_ref().unwrap().matrix();
+    assert!((m.transform_point3(glam::Vec3::ZERO) - glam::Vec3::splat(-1.0)).length() < 1e-6);
+    assert!((m.transform_point3(glam::Vec3::ONE) - glam::Vec3::ONE).length() < 1e-6);
+    assert_eq!(smoke.albedo, VolumeDesc::Rgb([1.0, 1.0, 1.0]));
 }

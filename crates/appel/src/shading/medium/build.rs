@@ -8,7 +8,7 @@ use super::{
 };
 use crate::description::{MediumDesc, PhaseDesc, VolumeDesc, VolumeFilter, VolumeNode};
 use crate::error::{Error, Result};
-use crate::io::grid_volume::read_grid_volume;
+use crate::io::grid_volume::{read_grid_volume, GridVolume};
 use glam::{Mat4, Vec3};
 use std::path::Path;
 
@@ -79,6 +79,19 @@ fn volume(d: &VolumeDesc, base_dir: &Path) -> Result<Volume> {
             }
             VolumeValues::Grid(Grid::new(g, *filter == VolumeFilter::Nearest))
         }
+        VolumeDesc::Volume(VolumeNode::Values {
+            resolution,
+            channels,
+            values,
+            ..
+        }) => VolumeValues::Grid(Grid::new(
+            GridVolume {
+                resolution: *resolution,
+                channels: *channels,
+                data: values.clone(),
+            },
+            false,
+        )),
     };
     Ok(Volume { to_local, values })
 }
