@@ -333,6 +333,12 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
             r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
         }
+        // Appel's own: Mitsuba 3 has no bidirectional path tracer; its keys are `path`'s.
+        "bdpt" => {
+            r.integrator = IntegratorName::Bdpt;
+            r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
+            r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
+        }
         "ptracer" => {
             r.integrator = IntegratorName::Ptracer;
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
@@ -349,7 +355,7 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             r.max_depth = 2;
         }
         p => return Err(i.error(format!(
-            "unsupported integrator plugin \"{p}\" (supported: path, ptracer, direct, aov, moment)"
+            "unsupported integrator plugin \"{p}\" (supported: path, ptracer, bdpt, direct, aov, moment)"
         ))),
     }
     r.hide_emitters = i.bool_or("hide_emitters", false)?;
