@@ -824,3 +824,123 @@ impl LightPathTracer for BdptLight {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::description::description_from_str;
+    use crate::description::parse::Syntax;
+    use crate::render::sampler::IndependentSampler;
+    use std::path::Path;
+
+    /// A closed room (a two-sided diffuse sphere seen from inside), a rough plastic ball, an area
+    /// light and a point light: paths bounce several times and end on the area light.
+    const BOX: &str = "[camera]\neye = [0.0, 1.0, 2.8]\nlook_at = [0.0, 1.0, 0.0]\nwidth = 16\n\
+        height = 16\nfov = 50\n[render]\nintegrator = \"bdpt\"\nmax_depth = 8\n\
+        [materials.grey]\ntype = \"diffuse\"\nreflectance = [0.8, 0.8, 0.8]\n\
+        [materials.white]\ntype = \"twosided\"\nfront = \"grey\"\n\
+        [materials.plastic]\ntype = \"roughplastic\"\ndiffuse_reflectance = [0.2, 0.6, 0.3]\n\
+        [[shape]]\ntype = \"sphere\"\ncenter = [0.0, 1.0, 0.0]\nradius = 3.0\nmaterial = \"white\"\n\
+        [[shape]]\ntype = \"sphere\"\ncenter = [0.3, 0.5, 0.0]\nradius = 0.4\nmaterial = \"plastic\"\n\
+        [[shape]]\ntype = \"rectangle\"\n\
+        transform = { scale = [0.8, 0.8, 1.0], rotate = { axis = [1.0, 0.0, 0.0], degrees = 90.0 }, translate = [0.0, 2.5, 0.0] }\n\
+        emitter = { radiance = [4.0, 4.0, 4.0] }\n\
+        [[light]]\ntype = \"point\"\nposition = [-1.0, 1.5, 0.5]\nintensity = 2.0\n";
+
+    /// The camera-side and light-side densities of path `x` (`x[0]` the lens, `x[k-1]` on an
+    /// emitter), and the vertex arrays of strategy `(s, t)` built from them: the light subpath
+    /// is the path's end reversed, its first vertex the emitter's point as a light's.
+    fn split(scene: &Scene, x: &[Vertex], s: usize) -> (Vec<Vertex>, Vec<Vertex>) {
+        let k = x.len();
+        let t = k - s;
+        let mut as_light: Vec<Vertex> = x.iter().rev().copied().collect();
+        as_light[0].kind = Kind::Light(x[k - 1].emitter());
+        as_light[0].bsdf = None;
+        // Densities as each direction samples: camera side forward along `x`, light side backward.
+        let cam_fwd = |i: usize| -> f32 {
+            match i {
+                0 => 1.0,
+                1 => pdf(scene, &x[0], None, &x[1]),
+                _ => pdf(scene, &x[i - 1], Some(&x[i - 2]), &x[i]),
+            }
+        };
+        let light_fwd = |j: usize| -> f32 {
+            match j {
+                0 => pdf_light_origin(scene, &as_light[0]),
+                1 => pdf_light(scene, &as_light[0], &as_light[1]),
+                _ => pdf(
+                    scene,
+                    &as_light[j - 1],
+                    Some(&as_light[j - 2]),
+                    &as_light[j],
+                ),
+            }
+        };
+        let camera: Vec<Vertex> = (0..t)
+            .map(|i| Vertex {
+                pdf_fwd: cam_fwd(i),
+                pdf_rev: light_fwd(k - 1 - i),
+                ..x[i]
+            })
+            .collect();
+        let light: Vec<Vertex> = (0..s)
+            .map(|j| Vertex {
+                pdf_fwd: light_fwd(j),
+                pdf_rev: cam_fwd(k - 1 - j),
+                ..as_light[j]
+            })
+            .collect();
+        (light, camera)
+    }
+
+    /// For paths of every length from 3 to 8 vertices that the camera's random walks find in
+    /// the box, the balance heuristic's weights of all strategies that can make the path (every
+    /// split into `s` light and `t >= 1` camera vertices; the point light no path hits is no
+    /// strategy) sum to one.
+    #[test]
+    fn mis_weights_of_all_strategies_sum_to_one() {
+        let d = description_from_str(BOX, Syntax::Toml, Path::new("box.toml")).unwrap();
+        let scene = Scene::new(&d, Path::new(".")).unwrap();
+        let b = Bdpt::from_settings(&scene.settings).unwrap();
+        let mut sampler = IndependentSampler::new(3);
+        let mut ctx = TraceContext::default();
+        let mut scratch = Scratch::default();
+        let mut checked = [0usize; 10];
+        for index in 0..4000 {
+            sampler.start_pixel_sample(index % 16, (index / 16) % 16, index);
+            let ray = scene.camera.ray(
+                (index % 16) as f32 + sampler.get_1d(),
+                ((index / 16) % 16) as f32 + sampler.get_1d(),
+            );
+            let mut path = Vec::new();
+            camera_subpath(&scene, &b, &ray, &mut sampler, &mut path, &mut ctx);
+            for k in 3..=path.len() {
+                let x = &path[..k];
+                if x[k - 1].emitter() == NO_EMITTER {
+                    continue;
+                }
+                let mut sum = 0.0f64;
+                for s in 0..k {
+                    let t = k - s;
+                    let (light, camera) = split(&scene, x, s);
+                    let sampled = match (s, t) {
+                        (1, _) => Some(light[0]),
+                        (_, 1) => Some(camera[0]),
+                        _ => None,
+                    };
+                    let w = mis_weight(&scene, &light, &camera, sampled, (s, t), &mut scratch);
+                    assert!((0.0..=1.0).contains(&w), "weight {w} of ({s}, {t})");
+                    sum += w as f64;
+                }
+                assert!(
+                    (sum - 1.0).abs() < 1e-4,
+                    "{k} vertices: weights sum to {sum}"
+                );
+                checked[k] += 1;
+            }
+        }
+        for (k, &n) in checked.iter().enumerate().take(9).skip(3) {
+            assert!(n >= 5, "only {n} paths of {k} vertices: {checked:?}");
+        }
+    }
+}
