@@ -96,7 +96,7 @@ impl Vertex {
 fn to_area(pdf: f32, from: &Vertex, to: &Vertex) -> f32 {
     let w = to.p - from.p;
     let d2 = w.length_squared();
-    if !(d2 > 0.0) {
+    if d2.is_nan() || d2 <= 0.0 {
         return 0.0;
     }
     let mut pdf = pdf / d2;
@@ -130,7 +130,7 @@ fn scattering(v: &Vertex, toward_eye: Vec3, toward_light: Vec3) -> Vec3 {
 fn pdf(scene: &Scene, cur: &Vertex, prev: Option<&Vertex>, next: &Vertex) -> f32 {
     let w = next.p - cur.p;
     let len = w.length();
-    if !(len > 0.0) {
+    if len.is_nan() || len <= 0.0 {
         return 0.0;
     }
     let w = w / len;
@@ -503,7 +503,7 @@ fn unoccluded<S: Sampler>(
 ) -> bool {
     let w = b - a.p;
     let dist = w.length();
-    if !(dist > 0.0) {
+    if dist.is_nan() || dist <= 0.0 {
         return false;
     }
     let dir = w / dist;

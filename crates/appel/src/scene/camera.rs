@@ -170,7 +170,7 @@ impl Camera {
     /// focus (for a pinhole, through the image plane).
     fn film_position(&self, lens_offset: Vec3, w: Vec3) -> Option<Vec2> {
         let z = w.dot(self.forward);
-        if !(z > 0.0) {
+        if z.is_nan() || z <= 0.0 {
             return None;
         }
         let (u, v) = if lens_offset == Vec3::ZERO {

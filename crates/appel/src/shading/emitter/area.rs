@@ -78,7 +78,7 @@ impl AreaEmitter {
     /// A point of the shape uniformly by area.
     pub fn sample_position(&self, u: Vec2) -> Option<PositionSample> {
         let (point, normal, uv, pdf) = self.shape.sample_area(u);
-        if !(pdf > 0.0) || !point.is_finite() {
+        if pdf.is_nan() || pdf <= 0.0 || !point.is_finite() {
             return None;
         }
         Some(PositionSample {

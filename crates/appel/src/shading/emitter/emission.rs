@@ -68,7 +68,7 @@ pub(super) fn infinite_ray(
     (centre, radius): (Vec3, f32),
 ) -> Option<EmitterRay> {
     let s = e.sample_li(centre, u_dir)?;
-    if !(s.pdf > 0.0) || s.weight == Vec3::ZERO {
+    if s.pdf.is_nan() || s.pdf <= 0.0 || s.weight == Vec3::ZERO {
         return None;
     }
     let dir = -s.wi;

@@ -110,7 +110,7 @@ impl super::EmitterPlugin for Projector {
     /// image.
     fn pdf_ray_dir(&self, _normal: Vec3, dir: Vec3) -> f32 {
         let local = self.from_world.transform_vector3(dir);
-        if !(local.z > 0.0) {
+        if local.z.is_nan() || local.z <= 0.0 {
             return 0.0;
         }
         let q = local / local.z;
@@ -122,7 +122,7 @@ impl super::EmitterPlugin for Projector {
         let q_len = q.length();
         let mq_len = self.to_world.transform_vector3(q / q_len).length();
         let det = glam::Mat3::from_mat4(self.to_world).determinant().abs();
-        if !(det > 0.0) {
+        if det.is_nan() || det <= 0.0 {
             return 0.0;
         }
         q_len.powi(3) * mq_len.powi(3) / (det * area)
