@@ -1,6 +1,7 @@
-//! The particle tracer (`ptracer`): the image it estimates from the lights is the path tracer's
-//! (a z-test of one against the other, pixel by pixel, through a pinhole and a thin lens), and
-//! it is bit-identical for any number of threads and in a window of the image.
+//! The particle tracer (`ptracer`) and the bidirectional path tracer (`bdpt`): the images they
+//! estimate are the path tracer's (z-tests of one against the other, pixel by pixel: through a
+//! pinhole and a thin lens, in the Cornell box, and in a caustic under a glass ball), and they
+//! are bit-identical for any number of threads (and in a window of the image).
 
 use appel::description::{description_from_str, parse::Syntax};
 use appel::render::{render, Film, RenderOptions, Window};
@@ -222,4 +223,80 @@ fn ptracer_refuses_an_orthographic_camera() {
     let toml = room("ptracer", 1, "type = \"orthographic\"\n", "box");
     let e = render(&scene(&toml), &RenderOptions::default()).unwrap_err();
     assert!(e.to_string().contains("perspective camera"), "{e}");
+}
+
+/// A glass ball on a diffuse floor under a small spherical light: the caustic below the ball
+/// is light that only a light subpath reaches easily (a path tracer finds it when its BSDF
+/// samples happen to hit the light through the glass).
+fn caustic(integrator: &str, spp: u32) -> String {
+    format!(
+        "[camera]\neye = [0.0, 1.4, 2.6]\nlook_at = [0.0, 0.3, 0.0]\nwidth = 24\nheight = 16\n\
+         fov = 40\n\
+         [render]\nintegrator = \"{integrator}\"\nmax_depth = 8\nspp = {spp}\n\
+         filter = {{ type = \"box\" }}\n\n\
+         [materials.floor]\ntype = \"diffuse\"\nreflectance = [0.7, 0.7, 0.7]\n\
+         [materials.glass]\ntype = \"dielectric\"\n\n\
+         [[shape]]\ntype = \"rectangle\"\nmaterial = \"floor\"\n\
+         transform = {{ scale = [3.0, 3.0, 1.0], rotate = {{ axis = [1.0, 0.0, 0.0], degrees = -90.0 }} }}\n\
+         [[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.4, 0.0]\nradius = 0.4\nmaterial = \"glass\"\n\
+         [[shape]]\ntype = \"sphere\"\ncenter = [0.5, 1.9, -0.3]\nradius = 0.15\n\
+         emitter = {{ radiance = [40.0, 36.0, 30.0] }}\n"
+    )
+}
+
+/// Bidirectional and unidirectional path tracing agree on the caustic of a glass ball, pixel by
+/// pixel and in the image means.
+#[test]
+fn bdpt_agrees_with_path_on_a_caustic() {
+    let bd = film(&caustic("bdpt", 256));
+    let path = film(&caustic("path", 4096));
+    assert_agree("caustic", &bd, &path);
+}
+
+/// Bidirectional and unidirectional path tracing agree on the Cornell box (its Mitsuba file, at
+/// 32 x 32 with a box filter).
+#[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
+fn bdpt_agrees_with_path_in_the_cornell_box() {
+    let path = appel_testdata::path("bitterli-scenes/cornell-box/mitsuba/scene_v3.xml");
+    let render_as = |integrator: appel::scene::IntegratorKind, spp: u32| {
+        let loaded = appel::format::load(&path, &Default::default()).unwrap();
+        let mut d = loaded.description;
+        (d.camera.width, d.camera.height) = (32, 32);
+        d.render.filter = appel::description::FilterDesc::Box { radius: 0.5 };
+        d.render.integrator = integrator;
+        d.render.spp = spp;
+        let scene = Scene::new(&d, &loaded.base_dir).unwrap();
+        render(&scene, &RenderOptions::default()).unwrap().0
+    };
+    let bd = render_as(appel::scene::IntegratorKind::Bdpt, 128);
+    let pt = render_as(appel::scene::IntegratorKind::Path, 1024);
+    assert_agree("Cornell box", &bd, &pt);
+}
+
+/// bdpt's image (its pixel estimates and its splats) is the same for any number of threads.
+#[test]
+fn bdpt_images_do_not_depend_on_threads() {
+    let s = scene(&room("bdpt", 3, LENS, "tent"));
+    let at = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| render(&s, &RenderOptions::default()).unwrap().0)
+    };
+    let one = at(1);
+    assert!(one.rgb.iter().filter(|c| c.x > 0.0).count() > 100);
+    let two = at(2);
+    assert_eq!(one.rgb, two.rgb);
+    assert_eq!(one.variance, two.variance);
+}
+
+/// bdpt against path in the room of lights of every kind (area, point, spot), through a thin
+/// lens.
+#[test]
+fn bdpt_agrees_with_path_in_the_room() {
+    let bd = film(&room("bdpt", 128, LENS, "box"));
+    let path = film(&room("path", 512, LENS, "box"));
+    assert_agree("room", &bd, &path);
 }

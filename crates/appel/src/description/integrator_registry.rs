@@ -27,6 +27,7 @@ macro_rules! for_each_integrator {
             Direct { name: direct, runtime: direct::Direct, params: NoParams, sampler: Independent, monte_carlo: true },
             VolPath { name: volpath, runtime: volpath::VolPath, params: NoParams, sampler: Independent, monte_carlo: true },
             Aov { name: aov, runtime: aov::Aov, params: AovParams, sampler: Independent, monte_carlo: true },
+            Bdpt { name: bdpt, runtime: bdpt::Bdpt, params: NoParams, sampler: Independent, monte_carlo: true },
             Ptracer { name: ptracer, runtime: ptracer::ParticleTracer, params: PtracerParams, sampler: Independent, monte_carlo: true },
         }
     };

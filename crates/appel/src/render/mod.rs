@@ -3,6 +3,7 @@
 //! position; the film sums the samples through the reconstruction filter.
 
 pub mod aov;
+pub mod bdpt;
 pub mod cost;
 pub mod direct;
 mod film;
@@ -80,6 +81,15 @@ pub struct RenderStats {
 }
 
 impl RenderStats {
+    /// Adds another render's work (of the same image: the samples per pixel are the fewer).
+    pub(crate) fn add(&mut self, o: &RenderStats) {
+        self.time += o.time;
+        self.rays.merge(&o.rays);
+        self.traversal.merge(&o.traversal);
+        self.spp = self.spp.min(o.spp);
+        self.invalid_samples += o.invalid_samples;
+    }
+
     pub(crate) fn merge(&mut self, ctx: &TraceContext) {
         self.rays.merge(&ctx.rays);
         self.traversal.merge(&ctx.traversal);

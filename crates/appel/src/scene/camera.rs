@@ -229,6 +229,20 @@ impl Camera {
         })
     }
 
+    /// The density by solid angle with which camera rays from lens point `lens` leave along
+    /// unit `w`, as a film position uniform over the film makes them: `1 / (A cos³ θ)` inside
+    /// the view, zero outside (pbrt-v4's `PDF_We`, without the lens's density).
+    pub fn pdf_direction(&self, lens: Vec3, w: Vec3) -> f32 {
+        if self.kind != CameraKind::Perspective {
+            return 0.0;
+        }
+        if self.film_position(lens - self.eye, w).is_none() {
+            return 0.0;
+        }
+        let cos = w.dot(self.forward);
+        1.0 / (self.film_area() * cos * cos * cos)
+    }
+
     /// [`Self::connect`] for a light at infinity seen along unit direction `w`: the lens point,
     /// the film position and `We cos θ = 1 / (A cos³ θ)` (the density of `w` is the light's).
     pub fn connect_direction(&self, w: Vec3, u_lens: Vec2) -> Option<CameraConnection> {

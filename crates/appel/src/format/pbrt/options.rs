@@ -20,6 +20,8 @@ pub(super) struct SceneOptions {
     /// Whether the `Integrator` renders media (`volpath`, pbrt-v4's default, and
     /// `simplevolpath`); `None` before an `Integrator`.
     volumetric: Option<bool>,
+    /// The integrator `Integrator` names where Appel has it (`bdpt`, `lightpath`); path otherwise.
+    integrator: Option<IntegratorName>,
 }
 
 struct Camera {
@@ -207,26 +209,29 @@ impl SceneOptions {
         Ok(())
     }
 
-    /// `Integrator`: pbrt's other estimators of the light transport equation (bidirectional,
-    /// Metropolis, photon mapping, light tracing) converge to the image the path tracer converges
-    /// to (Veach 1997, ch. 8-11; SPPM in the limit of its shrinking radius, Hachisuka and Jensen
-    /// 2009), so they are rendered with it and a warning says so; an integrator that computes
-    /// something else (ambient occlusion, AOVs) is an error.
+    /// `Integrator`: `bdpt` is Appel's bidirectional path tracer and `lightpath` its particle
+    /// tracer (`ptracer`); pbrt's other estimators of the light transport equation (Metropolis,
+    /// photon mapping) converge to the image the path tracer converges to (Veach 1997, ch. 8-11;
+    /// SPPM in the limit of its shrinking radius, Hachisuka and Jensen 2009), so they are rendered
+    /// with it and a warning says so; an integrator that computes something else (ambient
+    /// occlusion, AOVs) is an error.
     pub fn integrator(&mut self, d: &Directive, warnings: &mut Vec<String>) -> Result<()> {
         self.volumetric = Some(matches!(d.strings[0].as_str(), "volpath" | "simplevolpath"));
         match d.strings[0].as_str() {
             "path" | "volpath" => {}
-            same @ ("bdpt" | "mlt" | "sppm" | "lightpath" | "simplepath" | "randomwalk"
-            | "simplevolpath") => warnings.push(format!(
-                "{}: Integrator \"{same}\" is rendered with Appel's path tracer: it converges \
+            "bdpt" => self.integrator = Some(IntegratorName::Bdpt),
+            "lightpath" => self.integrator = Some(IntegratorName::Ptracer),
+            same @ ("mlt" | "sppm" | "simplepath" | "randomwalk" | "simplevolpath") => warnings
+                .push(format!(
+                    "{}: Integrator \"{same}\" is rendered with Appel's path tracer: it converges \
                  to the same image, with other noise",
-                d.loc.describe()
-            )),
+                    d.loc.describe()
+                )),
             other => {
                 return Err(d.loc.error(format!(
-                    "unsupported integrator \"{other}\" (supported: path, volpath; bdpt, mlt, \
-                     sppm, lightpath, simplepath, randomwalk and simplevolpath are rendered as \
-                     path)"
+                    "unsupported integrator \"{other}\" (supported: path, volpath, bdpt, \
+                     lightpath; mlt, sppm, simplepath, randomwalk and simplevolpath are rendered \
+                     as path)"
                 )))
             }
         }
@@ -247,6 +252,13 @@ impl SceneOptions {
         if p.bool_or("regularize", false)? {
             let at = &p.get("regularize").expect("read").loc;
             return Err(at.error("\"regularize\" (a biased roughening) is not supported"));
+        }
+        // bdpt's images of each strategy, written beside the render by pbrt.
+        for name in ["visualizestrategies", "visualizeweights"] {
+            if p.bool_or(name, false)? {
+                let at = &p.get(name).expect("read").loc;
+                return Err(at.error(format!("\"{name}\" is not supported")));
+            }
         }
         Ok(())
     }
@@ -321,7 +333,7 @@ impl SceneOptions {
         };
         let (sampler, spp, seed) = self.sampler.unwrap_or((SamplerName::Sobol, 16, 0));
         let render = RenderDesc {
-            integrator: IntegratorName::Path,
+            integrator: self.integrator.unwrap_or(IntegratorName::Path),
             max_depth: self.max_depth.unwrap_or(6),
             spp,
             sampler: Some(sampler),

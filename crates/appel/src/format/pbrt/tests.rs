@@ -73,11 +73,28 @@ fn maxdepth_counts_bounces() {
     assert_eq!(s.description.render.spp, 16);
 }
 
-/// Integrators that estimate the same light transport are path traced with a warning at their
-/// line, keeping their depth; one that computes something else is an error.
+/// pbrt's bdpt and lightpath are Appel's bdpt and ptracer; other integrators that estimate the
+/// same light transport are path traced with a warning at their line, keeping their depth; one
+/// that computes something else is an error.
 #[test]
 fn other_estimators_of_the_same_light_are_path_traced() {
-    for name in ["bdpt", "sppm", "mlt"] {
+    for (name, appel) in [
+        ("bdpt", IntegratorName::Bdpt),
+        ("lightpath", IntegratorName::Ptracer),
+    ] {
+        let s = load(&format!(
+            "Integrator \"{name}\" \"integer maxdepth\" 7\n{CAMERA}WorldBegin\n"
+        ))
+        .unwrap();
+        assert_eq!(s.description.render.integrator, appel);
+        assert_eq!(s.description.render.max_depth, 8);
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    }
+    let e = err(&format!(
+        "Integrator \"bdpt\" \"bool visualizeweights\" true\n{CAMERA}WorldBegin\n"
+    ));
+    assert!(e.contains("\"visualizeweights\" is not supported"), "{e}");
+    for name in ["sppm", "mlt"] {
         let s = load(&format!(
             "Integrator \"{name}\" \"integer maxdepth\" 7\n{CAMERA}WorldBegin\n"
         ))

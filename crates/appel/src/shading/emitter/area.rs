@@ -68,6 +68,7 @@ impl AreaEmitter {
             origin_error: ps.point_error,
             dir,
             normal: ps.normal,
+            uv: ps.uv,
             weight: self.radiance.eval(ps.uv) * (PI / ps.pdf),
             pdf_pos: ps.pdf,
             pdf_dir: local.z / PI,
@@ -118,6 +119,22 @@ impl super::EmitterPlugin for AreaEmitter {
     #[inline]
     fn sample_ray(&self, u_pos: Vec2, u_dir: Vec2) -> Option<EmitterRay> {
         AreaEmitter::sample_ray(self, u_pos, u_dir)
+    }
+
+    /// Cosine-weighted about the normal, on its emitting side.
+    #[inline]
+    fn pdf_ray_dir(&self, normal: Vec3, dir: Vec3) -> f32 {
+        (normal.dot(dir) / PI).max(0.0)
+    }
+
+    #[inline]
+    fn pdf_position(&self) -> f32 {
+        let area = self.shape.area();
+        if area > 0.0 {
+            1.0 / area
+        } else {
+            0.0
+        }
     }
 
     #[inline]

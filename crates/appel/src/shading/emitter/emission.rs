@@ -25,6 +25,9 @@ pub struct EmitterRay {
     /// `Le |cos| / (pdf_pos pdf_dir)`: what the ray carries (for delta positions or directions
     /// the intensity or irradiance over the other density).
     pub weight: Vec3,
+    /// The emitting surface's texture coordinates at `origin` (zero for lights that are no
+    /// surface).
+    pub uv: Vec2,
     /// Density of the origin by area (1 for a point light).
     pub pdf_pos: f32,
     /// Density of the direction by solid angle (1 for a directional light).
@@ -78,6 +81,7 @@ pub(super) fn infinite_ray(
         origin_error: Vec3::ZERO,
         dir,
         normal: dir,
+        uv: Vec2::ZERO,
         weight: s.weight * disk_area,
         pdf_pos: 1.0 / disk_area,
         pdf_dir: s.pdf,

@@ -110,6 +110,27 @@ pub trait EmitterPlugin: Clone + std::fmt::Debug {
         None
     }
 
+    /// The density by solid angle with which [`Self::sample_ray`] leaves a point of normal
+    /// `normal` (zero for lights at a point) along unit `dir`: what bidirectional path tracing's
+    /// weights need of a light's rays. The default is that of infinite lights, whose rays
+    /// `Emitter::sample_ray` builds (and which the bidirectional integrator does not take).
+    fn pdf_ray_dir(&self, _normal: Vec3, _dir: Vec3) -> f32 {
+        const { assert!(Self::INFINITE, "a finite emitter defines pdf_ray_dir") };
+        0.0
+    }
+
+    /// The density by area of [`Self::sample_ray`]'s and [`Self::sample_position`]'s points:
+    /// 1 for a light at a point (a delta distribution), which is the default.
+    fn pdf_position(&self) -> f32 {
+        const {
+            assert!(
+                Self::DELTA || Self::INFINITE,
+                "a surface emitter defines pdf_position"
+            )
+        };
+        1.0
+    }
+
     /// A point of the light's surface by area (Mitsuba's `Emitter::sample_position`), which light
     /// tracing connects to the camera to show emitters seen directly. The default, `None`, is that
     /// of lights with no surface (delta or infinite), which no camera ray hits.
@@ -203,6 +224,22 @@ macro_rules! define_emitters {
                 }
                 match self {
                     $(Emitter::$Variant(l) => EmitterPlugin::sample_ray(l, u_pos, u_dir),)*
+                }
+            }
+
+            /// See [`EmitterPlugin::pdf_ray_dir`].
+            #[inline]
+            pub fn pdf_ray_dir(&self, normal: Vec3, dir: Vec3) -> f32 {
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::pdf_ray_dir(l, normal, dir),)*
+                }
+            }
+
+            /// See [`EmitterPlugin::pdf_position`].
+            #[inline]
+            pub fn pdf_position(&self) -> f32 {
+                match self {
+                    $(Emitter::$Variant(l) => EmitterPlugin::pdf_position(l),)*
                 }
             }
 

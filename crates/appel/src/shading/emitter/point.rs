@@ -49,6 +49,10 @@ impl super::EmitterPlugin for PointLight {
         PointLight::sample_li(self, p)
     }
 
+    fn pdf_ray_dir(&self, _normal: Vec3, _dir: Vec3) -> f32 {
+        1.0 / (4.0 * PI)
+    }
+
     /// Uniform directions: the ray carries `4π I`.
     fn sample_ray(&self, _u_pos: glam::Vec2, u_dir: glam::Vec2) -> Option<EmitterRay> {
         let (dir, pdf_dir) = uniform_sphere(u_dir);
@@ -57,6 +61,7 @@ impl super::EmitterPlugin for PointLight {
             origin_error: Vec3::ZERO,
             dir,
             normal: Vec3::ZERO,
+            uv: glam::Vec2::ZERO,
             weight: self.intensity / pdf_dir,
             pdf_pos: 1.0,
             pdf_dir,

@@ -106,6 +106,28 @@ impl super::EmitterPlugin for Projector {
         Projector::sample_li(self, p)
     }
 
+    /// The density of [`EmitterPlugin::sample_ray`]'s directions (see there), zero outside the
+    /// image.
+    fn pdf_ray_dir(&self, _normal: Vec3, dir: Vec3) -> f32 {
+        let local = self.from_world.transform_vector3(dir);
+        if local.z.is_nan() || local.z <= 0.0 {
+            return 0.0;
+        }
+        let q = local / local.z;
+        if self.uv(q).is_none() {
+            return 0.0;
+        }
+        let half_y = self.tan_half_x / self.aspect;
+        let area = 4.0 * self.tan_half_x * half_y;
+        let q_len = q.length();
+        let mq_len = self.to_world.transform_vector3(q / q_len).length();
+        let det = glam::Mat3::from_mat4(self.to_world).determinant().abs();
+        if det.is_nan() || det <= 0.0 {
+            return 0.0;
+        }
+        q_len.powi(3) * mq_len.powi(3) / (det * area)
+    }
+
     /// A point of the image rectangle at z = 1, uniformly by area, and the direction through it.
     /// The intensity toward world direction `w` is `sample_li`'s weight at unit distance,
     /// `π scale E / (z_w² cos θ)`; the direction's density is the rectangle's, `1 / area`, times
@@ -140,6 +162,7 @@ impl super::EmitterPlugin for Projector {
             origin_error: Vec3::ZERO,
             dir,
             normal: Vec3::ZERO,
+            uv: glam::Vec2::ZERO,
             weight: intensity / pdf_dir,
             pdf_pos: 1.0,
             pdf_dir,

@@ -139,6 +139,15 @@ impl super::EmitterPlugin for SpotLight {
         SpotLight::sample_li(self, p)
     }
 
+    fn pdf_ray_dir(&self, _normal: Vec3, dir: Vec3) -> f32 {
+        let local = self.from_world.transform_vector3(dir).normalize();
+        if local.z > self.cos_cutoff {
+            1.0 / (2.0 * PI * (1.0 - self.cos_cutoff))
+        } else {
+            0.0
+        }
+    }
+
     /// Uniform directions in the cone of the cutoff angle (Mitsuba's `spot`): the ray carries
     /// the intensity toward it over that density. Directions are mapped by the light's
     /// transform, a rotation for Mitsuba's `lookat` (a scale would change the densities).
@@ -153,6 +162,7 @@ impl super::EmitterPlugin for SpotLight {
             origin_error: Vec3::ZERO,
             dir: self.to_world.transform_vector3(local).normalize(),
             normal: Vec3::ZERO,
+            uv: glam::Vec2::ZERO,
             weight: i / pdf_dir,
             pdf_pos: 1.0,
             pdf_dir,

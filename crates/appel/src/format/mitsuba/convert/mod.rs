@@ -359,6 +359,12 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
             r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
         }
+        // Appel's own: Mitsuba 3 has no bidirectional path tracer; its keys are `path`'s.
+        "bdpt" => {
+            r.integrator = IntegratorName::Bdpt;
+            r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
+            r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
+        }
         "ptracer" => {
             r.integrator = IntegratorName::Ptracer;
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
@@ -388,7 +394,8 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
         }
         p => {
             return Err(i.error(format!(
-                "unsupported integrator plugin \"{p}\" (supported: path, volpath, ptracer, direct, aov, moment)"
+                "unsupported integrator plugin \"{p}\" (supported: path, volpath, ptracer, bdpt, \
+                 direct, aov, moment)"
             )))
         }
     }
