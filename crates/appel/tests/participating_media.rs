@@ -8,6 +8,10 @@ use appel::render::{render, Film, RenderOptions};
 use appel::scene::Scene;
 use std::path::Path;
 
+#[path = "common/normal.rs"]
+mod normal;
+use normal::erfc;
+
 fn description(toml: &str) -> Description {
     description_from_str(toml, Syntax::Toml, Path::new("media.toml"))
         .unwrap_or_else(|e| panic!("{e}"))
@@ -193,29 +197,6 @@ fn inverse_normal_tail(p: f64) -> f64 {
         }
     }
     lo
-}
-
-/// erfc from its continued-fraction-free Chebyshev fit (Numerical Recipes 6.2, relative error
-/// below 1.2e-7).
-fn erfc(x: f64) -> f64 {
-    let z = x.abs();
-    let t = 1.0 / (1.0 + 0.5 * z);
-    let r = t
-        * (-z * z - 1.265_512_23
-            + t * (1.000_023_68
-                + t * (0.374_091_96
-                    + t * (0.096_784_18
-                        + t * (-0.186_288_06
-                            + t * (0.278_868_07
-                                + t * (-1.135_203_98
-                                    + t * (1.488_515_87
-                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-            .exp();
-    if x >= 0.0 {
-        r
-    } else {
-        2.0 - r
-    }
 }
 
 fn error_of(toml: &str) -> String {

@@ -8,6 +8,10 @@ use appel::render::{render, Film, RenderOptions};
 use appel::scene::Scene;
 use std::path::{Path, PathBuf};
 
+#[path = "../common/normal.rs"]
+mod normal;
+use normal::erfc;
+
 /// The path of `rel` in the shared data (tests calling it are marked as needing the data).
 pub fn shared(rel: &str) -> PathBuf {
     appel_testdata::path(rel)
@@ -189,28 +193,6 @@ pub fn reference(path: &Path, w: u32, h: u32) -> Vec<[f32; 3]> {
 /// The standard normal's two-sided tail probability `P(|Z| > z)`, through `erfc`.
 fn two_sided_p(z: f64) -> f64 {
     erfc(z.abs() / std::f64::consts::SQRT_2)
-}
-
-/// erfc with a relative error below 1.2e-7 (Numerical Recipes' Chebyshev fit, section 6.2).
-fn erfc(x: f64) -> f64 {
-    let z = x.abs();
-    let t = 1.0 / (1.0 + 0.5 * z);
-    let r = t
-        * (-z * z - 1.265_512_23
-            + t * (1.000_023_68
-                + t * (0.374_091_96
-                    + t * (0.096_784_18
-                        + t * (-0.186_288_06
-                            + t * (0.278_868_07
-                                + t * (-1.135_203_98
-                                    + t * (1.488_515_87
-                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-            .exp();
-    if x >= 0.0 {
-        r
-    } else {
-        2.0 - r
-    }
 }
 
 /// Compares `film` with `reference`. A pixel's variance is estimated from its own samples, and
