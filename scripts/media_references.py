@@ -15,7 +15,13 @@ from pathlib import Path
 
 FOLDER = Path(__file__).resolve().parent.parent / "crates/appel/tests/reference/media"
 # The samples per pixel each stored reference was rendered with.
-SPP = {"homogeneous_sphere": 32768, "hg_cloud": 32768, "camera_in_fog": 8192, "dielectric_medium": 16384}
+SPP = {
+    "homogeneous_sphere": 32768,
+    "hg_cloud": 32768,
+    "camera_in_fog": 8192,
+    "dielectric_medium": 16384,
+    "spot_in_fog": 16384,
+}
 
 
 def write_cloud(path, n=16):

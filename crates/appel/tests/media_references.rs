@@ -53,6 +53,13 @@ fn dielectric_medium() {
     check("dielectric_medium", 1024, 4);
 }
 
+/// A spot light inside a box of isotropic fog: the beam lit by single scattering, the rest of
+/// the fog and the floor's pool of light through the null walls.
+#[test]
+fn spot_in_fog() {
+    check("spot_in_fog", 1024, 1);
+}
+
 /// The comparison can fail: the cloud rendered 3% too dark is rejected.
 #[test]
 fn a_biased_medium_is_rejected() {
