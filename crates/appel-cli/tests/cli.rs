@@ -1144,3 +1144,39 @@ fn a_gltf_file_renders_as_a_scene() {
         &["bad.gltf:10: invalid glTF: `nodes[0].mesh`: index out of bounds"],
     );
 }
+
+/// A scene with a medium rendered by an integrator that traces none renders, with a warning
+/// naming the integrator that would show the medium; `volpath` gives no such warning.
+#[test]
+fn media_under_an_integrator_that_ignores_them_are_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = format!(
+        "{CAMERA}medium = \"fog\"\n\n[render]\nintegrator = \"path\"\nspp = 1\n\n\
+         [media.fog]\ntype = \"homogeneous\"\nsigma_t = 0.5\nalbedo = 0.5\n"
+    );
+    std::fs::write(dir.path().join("fog.toml"), scene).unwrap();
+    let render = |integrator: &str| {
+        let out = appel(
+            &[
+                "render",
+                "fog.toml",
+                "-o",
+                "out.png",
+                "--size",
+                "8x8",
+                "--integrator",
+                integrator,
+            ],
+            dir.path(),
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+        stderr(&out)
+    };
+    let path = render("path");
+    assert!(
+        path.contains("participating media, which `path` does not trace")
+            && path.contains("`volpath`"),
+        "{path}"
+    );
+    assert!(!render("volpath").contains("participating media"));
+}

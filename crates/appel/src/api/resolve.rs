@@ -97,6 +97,9 @@ pub fn resolve_description<E: From<Error>>(
     }
     (request.overrides)(&mut resolved.description)?;
     check(&resolved.description, request.names)?;
+    resolved
+        .warnings
+        .extend(resolved.description.media_ignored_warning());
     resolved.parse_time = start.elapsed();
     Ok(resolved)
 }

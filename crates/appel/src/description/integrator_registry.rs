@@ -5,14 +5,16 @@
 //! compile time that each runtime type's `Integrator::NAME` is its name here).
 
 /// Calls macro `$then!` with every integrator as
-/// `Variant { name, runtime, params, sampler, monte_carlo }`:
+/// `Variant { name, runtime, params, sampler, monte_carlo, media }`:
 /// - `name`: what `render.integrator`, `--integrator` and the formats' mappings call it;
 /// - `runtime`: the type in `render/` (`module::Type`) that implements `render::Integrator`;
 /// - `params`: the description type of its `[render.NAME]` table ([`NoParams`] when it has
 ///   none; `max_depth`, `rr_depth` and `hide_emitters` are shared keys of `[render]`);
 /// - `sampler`: the [`super::SamplerName`] used when `[render]` names none;
 /// - `monte_carlo`: whether it estimates light transport by sampling (then `max_depth = -1`
-///   means unlimited, and its images have a variance).
+///   means unlimited, and its images have a variance);
+/// - `media`: whether it traces participating media (the others pass through `null` surfaces
+///   and see no medium, as Mitsuba 3's `path` does).
 ///
 /// Adding an integrator is its runtime file, its parameters' file if it has parameters, one line
 /// here, and the format mappings that name it. The order is the order of
@@ -21,14 +23,14 @@ macro_rules! for_each_integrator {
     ($then:ident $(($($carry:tt)*))?) => {
         $then! {
             $($($carry)*)?
-            Raycast { name: raycast, runtime: whitted::Raycast, params: NoParams, sampler: PixelPattern, monte_carlo: false },
-            Whitted { name: whitted, runtime: whitted::Whitted, params: NoParams, sampler: PixelPattern, monte_carlo: false },
-            Path { name: path, runtime: path::PathTracer, params: NoParams, sampler: Independent, monte_carlo: true },
-            Direct { name: direct, runtime: direct::Direct, params: NoParams, sampler: Independent, monte_carlo: true },
-            VolPath { name: volpath, runtime: volpath::VolPath, params: NoParams, sampler: Independent, monte_carlo: true },
-            Aov { name: aov, runtime: aov::Aov, params: AovParams, sampler: Independent, monte_carlo: true },
-            Bdpt { name: bdpt, runtime: bdpt::Bdpt, params: NoParams, sampler: Independent, monte_carlo: true },
-            Ptracer { name: ptracer, runtime: ptracer::ParticleTracer, params: PtracerParams, sampler: Independent, monte_carlo: true },
+            Raycast { name: raycast, runtime: whitted::Raycast, params: NoParams, sampler: PixelPattern, monte_carlo: false, media: false },
+            Whitted { name: whitted, runtime: whitted::Whitted, params: NoParams, sampler: PixelPattern, monte_carlo: false, media: false },
+            Path { name: path, runtime: path::PathTracer, params: NoParams, sampler: Independent, monte_carlo: true, media: false },
+            Direct { name: direct, runtime: direct::Direct, params: NoParams, sampler: Independent, monte_carlo: true, media: false },
+            VolPath { name: volpath, runtime: volpath::VolPath, params: NoParams, sampler: Independent, monte_carlo: true, media: true },
+            Aov { name: aov, runtime: aov::Aov, params: AovParams, sampler: Independent, monte_carlo: true, media: false },
+            Bdpt { name: bdpt, runtime: bdpt::Bdpt, params: NoParams, sampler: Independent, monte_carlo: true, media: false },
+            Ptracer { name: ptracer, runtime: ptracer::ParticleTracer, params: PtracerParams, sampler: Independent, monte_carlo: true, media: false },
         }
     };
 }
@@ -68,7 +70,7 @@ pub trait IntegratorTable {
 impl IntegratorTable for NoParams {}
 
 macro_rules! define_integrator_names {
-    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, params: $Params:ident, sampler: $sampler:ident, monte_carlo: $mc:literal }),* $(,)?) => {
+    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, params: $Params:ident, sampler: $sampler:ident, monte_carlo: $mc:literal, media: $media:literal }),* $(,)?) => {
         /// Which integrator renders the scene (`render.integrator`).
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
         #[serde(try_from = "String", into = "&'static str")]
@@ -98,6 +100,13 @@ macro_rules! define_integrator_names {
             pub fn is_monte_carlo(self) -> bool {
                 match self {
                     $(Self::$Variant => $mc,)*
+                }
+            }
+
+            /// Whether the integrator traces participating media.
+            pub fn traces_media(self) -> bool {
+                match self {
+                    $(Self::$Variant => $media,)*
                 }
             }
 

@@ -440,3 +440,37 @@ fn is_one(v: &f32) -> bool {
 fn is_default<T: Default + PartialEq>(v: &T) -> bool {
     *v == T::default()
 }
+
+impl super::Description {
+    /// Whether a medium is in use: the camera's, or one inside or outside a shape.
+    pub fn uses_media(&self) -> bool {
+        self.camera.medium.is_some()
+            || self.shapes.iter().any(|s| {
+                let (interior, exterior) = s.media();
+                interior.is_some() || exterior.is_some()
+            })
+    }
+
+    /// A warning when the scene's media will not show: its integrator traces none (it passes
+    /// through `null` surfaces as if the media were vacuum, as Mitsuba 3's `path` does).
+    pub fn media_ignored_warning(&self) -> Option<String> {
+        let integrator = self.render.integrator;
+        (self.uses_media() && !integrator.traces_media()).then(|| {
+            let tracers: Vec<&str> = super::IntegratorName::ALL
+                .iter()
+                .filter(|i| i.traces_media())
+                .map(|i| i.name())
+                .collect();
+            format!(
+                "the scene has participating media, which `{}` does not trace (it renders them \
+                 as vacuum); render with {} to see them",
+                integrator.name(),
+                tracers
+                    .iter()
+                    .map(|t| format!("`{t}`"))
+                    .collect::<Vec<_>>()
+                    .join(" or ")
+            )
+        })
+    }
+}

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 macro_rules! render_desc {
     (
         structures: [$($Variant:ident($module:ident::$Type:ident)),* $(,)?];
-        $($IVariant:ident { name: $iname:ident, runtime: $imodule:ident::$IType:ident, params: $IParams:ident, sampler: $isampler:ident, monte_carlo: $imc:literal }),* $(,)?
+        $($IVariant:ident { name: $iname:ident, runtime: $imodule:ident::$IType:ident, params: $IParams:ident, sampler: $isampler:ident, monte_carlo: $imc:literal, media: $imedia:literal }),* $(,)?
     ) => {
         #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
         #[serde(deny_unknown_fields)]

@@ -130,7 +130,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderSta
 /// The render dispatch generated from the integrator list: one match per render, then the
 /// integrator's own code, monomorphized with the sampler.
 macro_rules! define_integrator_dispatch {
-    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, params: $Params:ident, sampler: $sampler:ident, monte_carlo: $mc:literal }),* $(,)?) => {
+    ($($Variant:ident { name: $name:ident, runtime: $module:ident::$Type:ident, params: $Params:ident, sampler: $sampler:ident, monte_carlo: $mc:literal, media: $media:literal }),* $(,)?) => {
         $(const _: () = assert!(
             crate::accel::same_name(<$module::$Type as Integrator>::NAME, stringify!($name)),
             concat!("`", stringify!($Type), "::NAME` must be its name in the integrator list")
