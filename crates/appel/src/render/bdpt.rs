@@ -18,13 +18,13 @@
 //! cameras.
 
 use super::integrator::{
-    camera_ray, centre_aov, CameraRay, FilmSample, Integrator, PixelIntegrator,
+    camera_ray, centre_aov, CameraRay, FilmSample, Integrator, PixelIntegrator, PixelRow,
 };
-use super::light_pass::{render_light_paths, LightPathTracer};
+use super::light_pass::{render_light_paths, start_light_path, LightPathTracer};
 use super::path::{
     intersect_through_masks, surface_emitter, visible_along, RR_MAX_PROBABILITY, SHADOW_EPSILON,
 };
-use super::ptracer::{check_camera, emitter_ray_origin};
+use super::ptracer::check_camera;
 use super::sampler::Sampler;
 use super::splat_film::Splat;
 use super::{with_sampler, Film, PixelAov, RenderOptions, RenderStats, TraceContext};
@@ -343,18 +343,16 @@ fn light_subpath<S: Sampler>(
     ctx: &mut TraceContext,
 ) {
     let max = integrator.light_vertices();
-    let emitters = &scene.emitters;
-    let (e, pmf) = emitters.picker.pick(sampler.get_1d());
-    let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
-    if max == 0 || pmf <= 0.0 {
-        return;
-    }
-    let Some(er) = emitters.emitters[e].sample_ray(u_pos, u_dir, emitters.sphere) else {
+    let Some(start) = start_light_path(scene, sampler) else {
         return;
     };
+    if max == 0 {
+        return;
+    }
+    let (er, pmf) = (&start.emitted, start.pmf);
     let pdf_origin = pmf * er.pdf_pos;
     path.push(Vertex {
-        kind: Kind::Light(e as u32),
+        kind: Kind::Light(start.emitter as u32),
         p: er.origin,
         p_error: er.origin_error,
         n: er.normal,
@@ -371,11 +369,10 @@ fn light_subpath<S: Sampler>(
         pdf_rev: 0.0,
     });
     path[0].uv = er.uv;
-    let ray = Ray::new(emitter_ray_origin(&er), er.dir);
     random_walk(
         scene,
         sampler,
-        ray,
+        start.ray,
         er.weight / pmf,
         er.pdf_dir,
         max,
@@ -386,11 +383,33 @@ fn light_subpath<S: Sampler>(
     );
 }
 
-/// Scratch vertices of one sample, reused across its strategies.
+/// The subpaths of one sample, kept from one sample to the next so that their vectors are
+/// allocated once per row of pixels (or chunk of light paths), not per sample.
 #[derive(Default)]
-struct Scratch {
-    light: Vec<Vertex>,
+pub struct Subpaths {
     camera: Vec<Vertex>,
+    light: Vec<Vertex>,
+}
+
+impl Subpaths {
+    /// Room for the subpaths of `b` up to a few bounces (they grow past it if they must).
+    fn for_integrator(b: &Bdpt) -> Self {
+        const TYPICAL: usize = 16;
+        Subpaths {
+            camera: Vec::with_capacity(b.camera_vertices().min(TYPICAL)),
+            light: Vec::with_capacity(b.light_vertices().min(TYPICAL)),
+        }
+    }
+}
+
+/// Vertex `i` of a subpath, `sampled` standing in for its first vertex where a strategy
+/// sampled that afresh.
+#[inline]
+fn vertex_of<'a>(path: &'a [Vertex], sampled: Option<&'a Vertex>, i: usize) -> &'a Vertex {
+    match sampled {
+        Some(v) if i == 0 => v,
+        _ => &path[i],
+    }
 }
 
 /// The balance heuristic's weight of strategy `(s, t)` for the path of `light[..s]` and
@@ -399,85 +418,78 @@ struct Scratch {
 /// the join are those the other direction would have sampled them with, and the weight is
 /// `1 / sum_i (p_i / p_s)` over every strategy `i` that could have made the path (none through
 /// a delta vertex), each ratio built up vertex by vertex from the join outward (Veach 1997
-/// section 10.2).
+/// section 10.2). The subpaths are read, never copied: the four reverse densities the join
+/// changes and the two endpoints' delta flags (a join is never through a delta lobe) are
+/// overridden as they are read.
 fn mis_weight(
     scene: &Scene,
     light: &[Vertex],
     camera: &[Vertex],
-    sampled: Option<Vertex>,
+    sampled: Option<&Vertex>,
     (s, t): (usize, usize),
-    scratch: &mut Scratch,
 ) -> f32 {
     if s + t == 2 {
         return 1.0;
     }
-    let (lv, cv) = (&mut scratch.light, &mut scratch.camera);
-    lv.clear();
-    lv.extend_from_slice(&light[..s]);
-    cv.clear();
-    cv.extend_from_slice(&camera[..t]);
-    if let Some(v) = sampled {
-        if s == 1 {
-            lv[0] = v;
-        } else if t == 1 {
-            cv[0] = v;
-        }
-    }
-    if t > 0 {
-        cv[t - 1].delta = false;
-    }
-    if s > 0 {
-        lv[s - 1].delta = false;
-    }
-    if t > 0 {
-        cv[t - 1].pdf_rev = if s > 0 {
-            pdf(
-                scene,
-                &lv[s - 1],
-                s.checked_sub(2).map(|i| &lv[i]),
-                &cv[t - 1],
-            )
-        } else {
-            pdf_light_origin(scene, &cv[t - 1])
-        };
-    }
-    if t > 1 {
-        cv[t - 2].pdf_rev = if s > 0 {
-            pdf(scene, &cv[t - 1], Some(&lv[s - 1]), &cv[t - 2])
-        } else {
-            pdf_light(scene, &cv[t - 1], &cv[t - 2])
-        };
-    }
-    if s > 0 {
-        lv[s - 1].pdf_rev = pdf(
-            scene,
-            &cv[t - 1],
-            t.checked_sub(2).map(|i| &cv[i]),
-            &lv[s - 1],
-        );
-    }
-    if s > 1 {
-        lv[s - 2].pdf_rev = pdf(scene, &lv[s - 1], Some(&cv[t - 1]), &lv[s - 2]);
-    }
+    let lv = |i: usize| vertex_of(light, sampled.filter(|_| s == 1), i);
+    let cv = |i: usize| vertex_of(camera, sampled.filter(|_| t == 1), i);
+    // The reverse densities of the endpoints (`[t - 1]`, `[s - 1]`) and of the vertices before
+    // them (`[t - 2]`, `[s - 2]`).
+    let cam_end_rev = if t == 0 {
+        0.0
+    } else if s > 0 {
+        pdf(scene, lv(s - 1), s.checked_sub(2).map(lv), cv(t - 1))
+    } else {
+        pdf_light_origin(scene, cv(t - 1))
+    };
+    let cam_before_rev = if t < 2 {
+        0.0
+    } else if s > 0 {
+        pdf(scene, cv(t - 1), Some(lv(s - 1)), cv(t - 2))
+    } else {
+        pdf_light(scene, cv(t - 1), cv(t - 2))
+    };
+    let light_end_rev = if s == 0 {
+        0.0
+    } else {
+        pdf(scene, cv(t - 1), t.checked_sub(2).map(cv), lv(s - 1))
+    };
+    let light_before_rev = if s < 2 {
+        0.0
+    } else {
+        pdf(scene, lv(s - 1), Some(cv(t - 1)), lv(s - 2))
+    };
+    let cam_rev = |i: usize| match t - 1 - i {
+        0 => cam_end_rev,
+        1 => cam_before_rev,
+        _ => cv(i).pdf_rev,
+    };
+    let light_rev = |i: usize| match s - 1 - i {
+        0 => light_end_rev,
+        1 => light_before_rev,
+        _ => lv(i).pdf_rev,
+    };
+    let cam_delta = |i: usize| i + 1 != t && cv(i).delta;
+    let light_delta = |i: usize| i + 1 != s && lv(i).delta;
     // A zero density (a delta lobe's) counts as one: those strategies are excluded below.
     let remap = |x: f32| if x != 0.0 { x } else { 1.0 };
     let mut sum = 0.0f32;
     let mut r = 1.0f32;
     for i in (1..t).rev() {
-        r *= remap(cv[i].pdf_rev) / remap(cv[i].pdf_fwd);
-        if !cv[i].delta && !cv[i - 1].delta {
+        r *= remap(cam_rev(i)) / remap(cv(i).pdf_fwd);
+        if !cam_delta(i) && !cam_delta(i - 1) {
             sum += r;
         }
     }
     r = 1.0;
     for i in (0..s).rev() {
-        r *= remap(lv[i].pdf_rev) / remap(lv[i].pdf_fwd);
+        r *= remap(light_rev(i)) / remap(lv(i).pdf_fwd);
         let delta_before = if i > 0 {
-            lv[i - 1].delta
+            light_delta(i - 1)
         } else {
-            is_delta_light(scene, &lv[0])
+            is_delta_light(scene, lv(0))
         };
-        if !lv[i].delta && !delta_before {
+        if !light_delta(i) && !delta_before {
             sum += r;
         }
     }
@@ -522,7 +534,6 @@ fn connect<S: Sampler>(
     camera: &[Vertex],
     (s, t): (usize, usize),
     sampler: &mut S,
-    scratch: &mut Scratch,
     ctx: &mut TraceContext,
 ) -> Vec3 {
     let pt = &camera[t - 1];
@@ -601,7 +612,7 @@ fn connect<S: Sampler>(
     if value == Vec3::ZERO {
         return value;
     }
-    value * mis_weight(scene, light, camera, sampled, (s, t), scratch)
+    value * mis_weight(scene, light, camera, sampled.as_ref(), (s, t))
 }
 
 /// The vertex of a light's point chosen with probability `pmf` at density `pdf_pos` by area.
@@ -629,7 +640,6 @@ fn connect_to_camera<S: Sampler>(
     light: &[Vertex],
     s: usize,
     sampler: &mut S,
-    scratch: &mut Scratch,
     ctx: &mut TraceContext,
 ) -> Option<Splat> {
     let qs = &light[s - 1];
@@ -656,14 +666,7 @@ fn connect_to_camera<S: Sampler>(
         pdf_fwd: 1.0,
         pdf_rev: 0.0,
     };
-    let w = mis_weight(
-        scene,
-        light,
-        &[camera_vertex],
-        Some(camera_vertex),
-        (s, 1),
-        scratch,
-    );
+    let w = mis_weight(scene, light, &[camera_vertex], Some(&camera_vertex), (s, 1));
     Some(Splat {
         pos: c.pos,
         value: value * w,
@@ -756,6 +759,45 @@ impl Integrator for BdptCamera {
     }
 }
 
+impl BdptCamera {
+    /// [`PixelIntegrator::sample`] with the subpaths' vectors given.
+    #[allow(clippy::too_many_arguments)]
+    fn sample_into<S: Sampler>(
+        &self,
+        scene: &Scene,
+        x: u32,
+        y: u32,
+        sampler: &mut S,
+        aov: Option<&mut PixelAov>,
+        paths: &mut Subpaths,
+        ctx: &mut TraceContext,
+    ) -> FilmSample {
+        let b = &self.0;
+        let CameraRay { pos, ray, .. } = camera_ray(scene, x, y, sampler);
+        ctx.rays.camera += 1;
+        if let Some(aov) = aov {
+            *aov = centre_aov(scene, x, y, ctx);
+        }
+        let Subpaths { camera, light } = paths;
+        camera.clear();
+        light.clear();
+        let mut radiance = Vec3::ZERO;
+        if b.max_depth > 0 {
+            camera_subpath(scene, b, &ray, sampler, camera, ctx);
+            light_subpath(scene, b, sampler, light, ctx);
+            for t in 2..=camera.len() {
+                for s in 0..=light.len().max(1) {
+                    if s + t - 1 > b.max_depth as usize {
+                        break;
+                    }
+                    radiance += connect(scene, b, light, camera, (s, t), sampler, ctx);
+                }
+            }
+        }
+        FilmSample { pos, radiance }
+    }
+}
+
 impl PixelIntegrator for BdptCamera {
     fn sample<S: Sampler>(
         &self,
@@ -766,38 +808,28 @@ impl PixelIntegrator for BdptCamera {
         aov: Option<&mut PixelAov>,
         ctx: &mut TraceContext,
     ) -> FilmSample {
-        let b = &self.0;
-        let CameraRay { pos, ray, .. } = camera_ray(scene, x, y, sampler);
-        ctx.rays.camera += 1;
-        if let Some(aov) = aov {
-            *aov = centre_aov(scene, x, y, ctx);
+        let mut paths = Subpaths::for_integrator(&self.0);
+        self.sample_into(scene, x, y, sampler, aov, &mut paths, ctx)
+    }
+
+    /// The row's samples one by one (as `sample_row_one_by_one`), their subpaths in vectors
+    /// shared by the row.
+    fn sample_row<S: Sampler>(
+        &self,
+        scene: &Scene,
+        row: PixelRow,
+        sampler: &mut S,
+        out: &mut [FilmSample],
+        mut aovs: Option<&mut [PixelAov]>,
+        ctx: &mut TraceContext,
+    ) {
+        let mut paths = Subpaths::for_integrator(&self.0);
+        for (i, o) in out.iter_mut().enumerate() {
+            let x = row.x0 + i as u32;
+            sampler.start_pixel_sample(x, row.y, row.index);
+            let aov = aovs.as_deref_mut().map(|a| &mut a[i]);
+            *o = self.sample_into(scene, x, row.y, sampler, aov, &mut paths, ctx);
         }
-        let mut camera = Vec::new();
-        let mut light = Vec::new();
-        let mut scratch = Scratch::default();
-        let mut radiance = Vec3::ZERO;
-        if b.max_depth > 0 {
-            camera_subpath(scene, b, &ray, sampler, &mut camera, ctx);
-            light_subpath(scene, b, sampler, &mut light, ctx);
-            for t in 2..=camera.len() {
-                for s in 0..=light.len().max(1) {
-                    if s + t - 1 > b.max_depth as usize {
-                        break;
-                    }
-                    radiance += connect(
-                        scene,
-                        b,
-                        &light,
-                        &camera,
-                        (s, t),
-                        sampler,
-                        &mut scratch,
-                        ctx,
-                    );
-                }
-            }
-        }
-        FilmSample { pos, radiance }
     }
 }
 
@@ -806,19 +838,22 @@ impl PixelIntegrator for BdptCamera {
 pub struct BdptLight(pub Bdpt);
 
 impl LightPathTracer for BdptLight {
+    /// The light subpath's vertices (the camera's vector stays empty).
+    type Scratch = Subpaths;
+
     fn trace<S: Sampler>(
         &self,
         scene: &Scene,
         sampler: &mut S,
         splats: &mut Vec<Splat>,
+        paths: &mut Subpaths,
         ctx: &mut TraceContext,
     ) {
-        let b = &self.0;
-        let mut light = Vec::new();
-        let mut scratch = Scratch::default();
-        light_subpath(scene, b, sampler, &mut light, ctx);
+        let light = &mut paths.light;
+        light.clear();
+        light_subpath(scene, &self.0, sampler, light, ctx);
         for s in 2..=light.len() {
-            if let Some(splat) = connect_to_camera(scene, &light, s, sampler, &mut scratch, ctx) {
+            if let Some(splat) = connect_to_camera(scene, light, s, sampler, ctx) {
                 splats.push(splat);
             }
         }
@@ -904,7 +939,6 @@ mod tests {
         let b = Bdpt::from_settings(&scene.settings).unwrap();
         let mut sampler = IndependentSampler::new(3);
         let mut ctx = TraceContext::default();
-        let mut scratch = Scratch::default();
         let mut checked = [0usize; 10];
         for index in 0..4000 {
             sampler.start_pixel_sample(index % 16, (index / 16) % 16, index);
@@ -924,11 +958,11 @@ mod tests {
                     let t = k - s;
                     let (light, camera) = split(&scene, x, s);
                     let sampled = match (s, t) {
-                        (1, _) => Some(light[0]),
-                        (_, 1) => Some(camera[0]),
+                        (1, _) => Some(&light[0]),
+                        (_, 1) => Some(&camera[0]),
                         _ => None,
                     };
-                    let w = mis_weight(&scene, &light, &camera, sampled, (s, t), &mut scratch);
+                    let w = mis_weight(&scene, &light, &camera, sampled, (s, t));
                     assert!((0.0..=1.0).contains(&w), "weight {w} of ({s}, {t})");
                     sum += w as f64;
                 }

@@ -15,7 +15,9 @@ use super::splat_film::{Splat, SplatFilm};
 use super::{filter, Film, PixelAov, RenderOptions, RenderStats, TraceContext, Window};
 use crate::description::SamplerName;
 use crate::error::{Error, Result};
+use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::scene::Scene;
+use crate::shading::emitter::EmitterRay;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -26,14 +28,62 @@ const CHUNK: u32 = 256;
 
 /// What traces one light path.
 pub trait LightPathTracer: Sync {
+    /// Working memory reused from one path to the next within a chunk (subpath vertices), so
+    /// that tracing a path allocates nothing once the chunk is under way.
+    type Scratch: Default;
+
     /// Traces the light path the sampler is started at, pushing its contributions to the film.
     fn trace<S: Sampler>(
         &self,
         scene: &Scene,
         sampler: &mut S,
         splats: &mut Vec<Splat>,
+        scratch: &mut Self::Scratch,
         ctx: &mut TraceContext,
     );
+}
+
+/// The first segment of a light path: the emitter the scene's light picker chose (with
+/// probability `pmf`), the ray its `sample_ray` drew (`emitted`, its weight not yet divided by
+/// `pmf`) and that ray leaving the emitter's surface.
+pub(super) struct LightPathStart {
+    pub emitter: usize,
+    pub pmf: f32,
+    pub emitted: EmitterRay,
+    pub ray: Ray,
+}
+
+/// Starts a light path from the sampler's next dimensions (one for the light, two for the point,
+/// two for the direction, drawn whatever the outcome); `None` where the light has no chance or no
+/// ray there. The start of `ptracer`'s paths and of `bdpt`'s light subpaths.
+pub(super) fn start_light_path<S: Sampler>(
+    scene: &Scene,
+    sampler: &mut S,
+) -> Option<LightPathStart> {
+    let emitters = &scene.emitters;
+    let (emitter, pmf) = emitters.picker.pick(sampler.get_1d());
+    let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
+    if pmf <= 0.0 {
+        return None;
+    }
+    let emitted = emitters.emitters[emitter].sample_ray(u_pos, u_dir, emitters.sphere)?;
+    // Off the emitting surface by the point's error bound (lights that are no surface have none).
+    let origin = if emitted.origin_error == Vec3::ZERO {
+        emitted.origin
+    } else {
+        offset_ray_origin(
+            emitted.origin,
+            emitted.origin_error,
+            emitted.normal,
+            emitted.dir,
+        )
+    };
+    Some(LightPathStart {
+        emitter,
+        pmf,
+        ray: Ray::new(origin, emitted.dir),
+        emitted,
+    })
 }
 
 /// Renders the scene's `spp` batches of light paths (fewer if the time limit stops it first),
@@ -105,12 +155,13 @@ fn run<T: LightPathTracer, S: Sampler>(
                 let mut sampler = sampler.clone();
                 let mut ctx = TraceContext::default();
                 let mut splats = Vec::new();
+                let mut scratch = T::Scratch::default();
                 let k0 = chunk as u64 * CHUNK as u64;
                 let k1 = (k0 + CHUNK as u64).min(paths);
                 for k in k0..k1 {
                     let (x, y) = ((k % w as u64) as u32, (k / w as u64) as u32);
                     sampler.start_pixel_sample(x, y, batch);
-                    tracer.trace(scene, &mut sampler, &mut splats, &mut ctx);
+                    tracer.trace(scene, &mut sampler, &mut splats, &mut scratch, &mut ctx);
                 }
                 ctx.invalid_samples +=
                     splats.iter().filter(|s| !s.value.is_finite()).count() as u64;

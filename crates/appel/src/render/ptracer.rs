@@ -11,7 +11,7 @@
 //! and `splat_film`'s.
 
 use super::integrator::Integrator;
-use super::light_pass::{render_light_paths, LightPathTracer};
+use super::light_pass::{render_light_paths, start_light_path, LightPathTracer};
 use super::path::{
     intersect_through_masks, visible, visible_along, RR_MAX_PROBABILITY, SHADOW_EPSILON,
 };
@@ -22,7 +22,6 @@ use crate::description::CameraKind;
 use crate::error::{Error, Result};
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::scene::{RenderSettings, Scene};
-use crate::shading::emitter::EmitterRay;
 use crate::shading::frame::ShadingFrame;
 use crate::shading::material::{Material, SurfacePoint};
 
@@ -70,21 +69,15 @@ pub(super) fn check_camera(scene: &Scene) -> Result<()> {
     Ok(())
 }
 
-/// The origin of a ray leaving a light: off its surface by the point's error bound.
-pub(super) fn emitter_ray_origin(r: &EmitterRay) -> Vec3 {
-    if r.origin_error == Vec3::ZERO {
-        r.origin
-    } else {
-        offset_ray_origin(r.origin, r.origin_error, r.normal, r.dir)
-    }
-}
-
 impl LightPathTracer for ParticleTracer {
+    type Scratch = ();
+
     fn trace<S: Sampler>(
         &self,
         scene: &Scene,
         sampler: &mut S,
         splats: &mut Vec<Splat>,
+        _: &mut (),
         ctx: &mut TraceContext,
     ) {
         let emitters = &scene.emitters;
@@ -94,16 +87,11 @@ impl LightPathTracer for ParticleTracer {
         if !self.hide_emitters {
             self.visible_emitter(scene, sampler, splats, ctx);
         }
-        let (e, pmf) = emitters.picker.pick(sampler.get_1d());
-        let (u_pos, u_dir) = (sampler.get_2d(), sampler.get_2d());
-        if pmf <= 0.0 {
-            return;
-        }
-        let Some(er) = emitters.emitters[e].sample_ray(u_pos, u_dir, emitters.sphere) else {
+        let Some(start) = start_light_path(scene, sampler) else {
             return;
         };
-        let mut throughput = er.weight / pmf;
-        let mut ray = Ray::new(emitter_ray_origin(&er), er.dir);
+        let mut throughput = start.emitted.weight / start.pmf;
+        let mut ray = start.ray;
         let mut eta = 1.0f32;
         let mut depth = 1u32;
         while depth < self.max_depth {

@@ -36,6 +36,9 @@ pub struct SplatFilm {
     batch: Vec<[f64; 3]>,
     sums: FilmBlock,
     batches: u32,
+    /// The filter's weights over the columns a splat covers, evaluated once per splat rather
+    /// than once per row.
+    column_weights: Vec<f32>,
 }
 
 /// `∫ f(x - c) dx` over `[0, n]` for `c = i + 1/2`: the midpoint rule on the pieces between the
@@ -75,6 +78,7 @@ impl SplatFilm {
             batch: vec![[0.0; 3]; width as usize * height as usize],
             sums: FilmBlock::new(0, 0, width, height),
             batches: 0,
+            column_weights: Vec::new(),
         }
     }
 
@@ -106,14 +110,17 @@ impl SplatFilm {
         let lo = |x: f32| (((x - 0.5 - r).floor() as i64) + 1).max(0);
         let hi = |x: f32, n: i64| (((x - 0.5 + r).ceil() as i64) - 1).min(n - 1);
         let v = s.value.as_dvec3();
+        let (i0, i1) = (lo(s.pos.x), hi(s.pos.x, w));
+        self.column_weights.clear();
+        self.column_weights
+            .extend((i0..=i1).map(|i| self.filter.eval(s.pos.x - (i as f32 + 0.5))));
         for j in lo(s.pos.y)..=hi(s.pos.y, h) {
             let wy = self.filter.eval(s.pos.y - (j as f32 + 0.5));
             if wy == 0.0 {
                 continue;
             }
             let wy = wy as f64 / self.rows[j as usize];
-            for i in lo(s.pos.x)..=hi(s.pos.x, w) {
-                let wx = self.filter.eval(s.pos.x - (i as f32 + 0.5));
+            for (i, &wx) in (i0..=i1).zip(&self.column_weights) {
                 if wx == 0.0 {
                     continue;
                 }
