@@ -126,7 +126,7 @@ fn unknown_accel_and_integrator_are_rejected_with_the_choices() {
         &[
             "i.toml:5:14",
             "unknown integrator `photon`",
-            "raycast, whitted, path, direct, volpath, aov, bdpt, ptracer",
+            "raycast, whitted, path, direct, volpath, aov, bdpt, ptracer, sppm",
         ],
     );
 }

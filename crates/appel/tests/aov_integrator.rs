@@ -188,13 +188,13 @@ fn a_bad_aov_type_is_an_error_at_its_line() {
     assert!(e.contains("no table of its own"), "{e}");
 
     // Unknown integrators list the registry's names.
-    let text = sphere_scene("[render]\nintegrator = \"sppm\"\n");
+    let text = sphere_scene("[render]\nintegrator = \"mlt\"\n");
     std::fs::write(&path, &text).unwrap();
     let e = appel::format::load(&path, &Default::default())
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("raycast, whitted, path, direct, volpath, aov, bdpt, ptracer"),
+        e.contains("raycast, whitted, path, direct, volpath, aov, bdpt, ptracer, sppm"),
         "{e}"
     );
 }

@@ -31,12 +31,13 @@ macro_rules! for_each_integrator {
             Aov { name: aov, runtime: aov::Aov, params: AovParams, sampler: Independent, monte_carlo: true, media: false },
             Bdpt { name: bdpt, runtime: bdpt::Bdpt, params: NoParams, sampler: Independent, monte_carlo: true, media: false },
             Ptracer { name: ptracer, runtime: ptracer::ParticleTracer, params: PtracerParams, sampler: Independent, monte_carlo: true, media: false },
+            Sppm { name: sppm, runtime: sppm::Sppm, params: SppmParams, sampler: Independent, monte_carlo: true, media: false },
         }
     };
 }
 pub(crate) use for_each_integrator;
 
-use super::integrator::{AovParams, PtracerParams};
+use super::integrator::{AovParams, PtracerParams, SppmParams};
 use super::SamplerName;
 use serde::{Deserialize, Deserializer, Serialize};
 

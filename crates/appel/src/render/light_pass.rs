@@ -9,15 +9,20 @@
 //! the splats are summed in a fixed order. So the image is bit-identical for any thread count.
 
 use super::integrator::centre_aov;
+use super::path::RR_MAX_PROBABILITY;
 use super::render_loop::next_pass;
 use super::sampler::{IndependentSampler, PixelPatternSampler, Sampler, SobolSampler};
 use super::splat_film::{Splat, SplatFilm};
 use super::{filter, Film, PixelAov, RenderOptions, RenderStats, TraceContext, Window};
 use crate::description::SamplerName;
 use crate::error::{Error, Result};
+use crate::geometry::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::scene::Scene;
+use crate::shading::bsdf::BsdfFlags;
 use crate::shading::emitter::EmitterRay;
+use crate::shading::frame::ShadingFrame;
+use crate::shading::material::SurfaceBsdf;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -84,6 +89,82 @@ pub(super) fn start_light_path<S: Sampler>(
         ray: Ray::new(origin, emitted.dir),
         emitted,
     })
+}
+
+/// A light path between its vertices: the ray leaving the last one, the importance it carries
+/// (the emitted weight over the light's choice, times each scattering's), the product of the
+/// crossings' relative IORs and the vertices so far (the light's point is the first).
+pub(super) struct LightPath {
+    pub ray: Ray,
+    pub throughput: Vec3,
+    pub eta: f32,
+    pub depth: u32,
+}
+
+impl LightPath {
+    pub fn new(start: &LightPathStart) -> Self {
+        LightPath {
+            ray: start.ray,
+            throughput: start.emitted.weight / start.pmf,
+            eta: 1.0,
+            depth: 1,
+        }
+    }
+
+    /// BSDF sampling at the surface `si` continues the path: `prev_local` is the direction
+    /// toward the previous vertex in the shading `frame`, `cos_g_prev` its cosine with the
+    /// geometric normal. Then Russian roulette after `rr_depth` vertices. `false` where the path
+    /// ends. Draws three dimensions, and one more for the roulette.
+    #[allow(clippy::too_many_arguments)]
+    pub fn scatter<S: Sampler>(
+        &mut self,
+        si: &SurfaceInteraction,
+        frame: &ShadingFrame,
+        bsdf: &SurfaceBsdf,
+        prev_local: Vec3,
+        cos_g_prev: f32,
+        rr_depth: u32,
+        sampler: &mut S,
+        ctx: &mut TraceContext,
+    ) -> bool {
+        let u_lobe = sampler.get_1d();
+        let u_bsdf = sampler.get_2d();
+        let Some(bs) = bsdf.sample(prev_local, u_lobe, u_bsdf) else {
+            return false;
+        };
+        let w_new = frame.to_world(bs.wi);
+        let cos_g_new = si.n.dot(w_new);
+        if cos_g_new * bs.wi.z <= 0.0 {
+            return false;
+        }
+        // Importance is not scaled by refraction as radiance is: `bs.eta²` undoes the radiance
+        // BSDF's 1/eta² (Veach 1997 section 5.2); and the adjoint's shading-normal factor
+        // |cos_g(new)| |cos_s(prev)| / (|cos_s(new)| |cos_g(prev)|) (section 5.3.2).
+        let correction = (prev_local.z * cos_g_new / (bs.wi.z * cos_g_prev)).abs();
+        self.throughput *= bs.weight * (bs.eta * bs.eta * correction);
+        self.eta *= bs.eta;
+        if bs.lobe.contains(BsdfFlags::DELTA_TRANSMISSION) || bs.wi.z * prev_local.z < 0.0 {
+            ctx.rays.refraction += 1;
+        } else {
+            ctx.rays.reflection += 1;
+        }
+        self.ray = Ray::new(offset_ray_origin(si.p, si.p_error, si.n, w_new), w_new);
+        self.depth += 1;
+        let t = self.throughput.max_element() * self.eta * self.eta;
+        if t <= 0.0 || !t.is_finite() {
+            return false;
+        }
+        // Russian roulette on the throughput with refraction's scaling undone (Mitsuba's
+        // ptracer: max(throughput) eta²).
+        if self.depth > rr_depth {
+            let q = t.min(RR_MAX_PROBABILITY);
+            if sampler.get_1d() >= q {
+                return false;
+            }
+            self.throughput /= q;
+        }
+        true
+    }
 }
 
 /// Renders the scene's `spp` batches of light paths (fewer if the time limit stops it first),
@@ -208,7 +289,7 @@ fn run<T: LightPathTracer, S: Sampler>(
 }
 
 /// What the ray through each pixel centre of the window sees first, in row order.
-fn window_aovs(scene: &Scene, window: Window, stats: &mut RenderStats) -> Vec<PixelAov> {
+pub(super) fn window_aovs(scene: &Scene, window: Window, stats: &mut RenderStats) -> Vec<PixelAov> {
     let rows: Vec<(Vec<PixelAov>, TraceContext)> = (window.y0..window.y1)
         .into_par_iter()
         .map(|y| {

@@ -18,6 +18,7 @@ pub mod ptracer;
 pub mod render_loop;
 pub mod sampler;
 pub mod splat_film;
+pub mod sppm;
 mod tile_film;
 pub mod volpath;
 mod whitted;

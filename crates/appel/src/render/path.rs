@@ -281,36 +281,7 @@ impl PathTracer {
         v: &Vertex,
         sampler: &mut S,
     ) -> Option<ShadowTest> {
-        let emitters = &scene.emitters;
-        let u_light = sampler.get_1d();
-        let u_dir = sampler.get_2d();
-        if !v.bsdf.flags().has_smooth() || emitters.picker.is_empty() {
-            return None;
-        }
-        let (e, pmf) = emitters.picker.pick(u_light);
-        let em = &emitters.emitters[e];
-        let ls = em.sample_li(v.si.p, u_dir)?;
-        let wi = v.frame.to_local(ls.wi);
-        let (f, bsdf_pdf) = v.bsdf.eval_pdf(v.wo, wi);
-        // As written (not `pmf <= 0.0`) so that a NaN pmf gives no sample.
-        if !(f != Vec3::ZERO && pmf > 0.0) {
-            return None;
-        }
-        let t_max = if ls.dist.is_finite() {
-            ls.dist * (1.0 - SHADOW_EPSILON)
-        } else {
-            f32::INFINITY
-        };
-        let w = if ls.delta {
-            1.0
-        } else {
-            mis_weight(ls.pdf * pmf, bsdf_pdf)
-        };
-        Some(ShadowTest {
-            dir: ls.wi,
-            t_max,
-            contribution: st.throughput * f * ls.weight * (w / pmf),
-        })
+        light_sample_weighted(scene, st, v, sampler, true)
     }
 
     /// BSDF sampling at `v` continues the path: the next ray, the throughput, and Russian
@@ -465,4 +436,48 @@ pub(super) fn visible_along<S: Sampler>(
         ray = Ray::new(offset_ray_origin(h.si.p, h.si.p_error, h.si.n, dir), dir);
     }
     false
+}
+
+/// Next-event estimation at `v` as [`PathTracer::light_sample`], weighted by the power heuristic
+/// against BSDF sampling when `mis` is set, or the whole light-sampling estimate when the BSDF
+/// side is not estimated by the caller (photon mapping's direct light). Draws three dimensions
+/// whatever happens.
+#[inline(always)]
+pub(super) fn light_sample_weighted<S: Sampler>(
+    scene: &Scene,
+    st: &PathState,
+    v: &Vertex,
+    sampler: &mut S,
+    mis: bool,
+) -> Option<ShadowTest> {
+    let emitters = &scene.emitters;
+    let u_light = sampler.get_1d();
+    let u_dir = sampler.get_2d();
+    if !v.bsdf.flags().has_smooth() || emitters.picker.is_empty() {
+        return None;
+    }
+    let (e, pmf) = emitters.picker.pick(u_light);
+    let em = &emitters.emitters[e];
+    let ls = em.sample_li(v.si.p, u_dir)?;
+    let wi = v.frame.to_local(ls.wi);
+    let (f, bsdf_pdf) = v.bsdf.eval_pdf(v.wo, wi);
+    // As written (not `pmf <= 0.0`) so that a NaN pmf gives no sample.
+    if !(f != Vec3::ZERO && pmf > 0.0) {
+        return None;
+    }
+    let t_max = if ls.dist.is_finite() {
+        ls.dist * (1.0 - SHADOW_EPSILON)
+    } else {
+        f32::INFINITY
+    };
+    let w = if ls.delta || !mis {
+        1.0
+    } else {
+        mis_weight(ls.pdf * pmf, bsdf_pdf)
+    };
+    Some(ShadowTest {
+        dir: ls.wi,
+        t_max,
+        contribution: st.throughput * f * ls.weight * (w / pmf),
+    })
 }

@@ -11,10 +11,8 @@
 //! and `splat_film`'s.
 
 use super::integrator::Integrator;
-use super::light_pass::{render_light_paths, start_light_path, LightPathTracer};
-use super::path::{
-    intersect_through_masks, visible, visible_along, RR_MAX_PROBABILITY, SHADOW_EPSILON,
-};
+use super::light_pass::{render_light_paths, start_light_path, LightPath, LightPathTracer};
+use super::path::{intersect_through_masks, visible, visible_along, SHADOW_EPSILON};
 use super::sampler::Sampler;
 use super::splat_film::Splat;
 use super::{Film, RenderOptions, RenderStats, TraceContext};
@@ -90,17 +88,14 @@ impl LightPathTracer for ParticleTracer {
         let Some(start) = start_light_path(scene, sampler) else {
             return;
         };
-        let mut throughput = start.emitted.weight / start.pmf;
-        let mut ray = start.ray;
-        let mut eta = 1.0f32;
-        let mut depth = 1u32;
-        while depth < self.max_depth {
-            let Some(h) = intersect_through_masks(scene, &ray, sampler, ctx) else {
+        let mut path = LightPath::new(&start);
+        while path.depth < self.max_depth {
+            let Some(h) = intersect_through_masks(scene, &path.ray, sampler, ctx) else {
                 break;
             };
             let si = h.si;
             // Toward the previous vertex of the light path.
-            let w_prev = -ray.dir;
+            let w_prev = -path.ray.dir;
             let frame = ShadingFrame::from_normal_tangent(si.ns, si.shading_tangent());
             let at = SurfacePoint::new(&si, &frame, w_prev, scene.geometry.attributes_at(&h.hit));
             let bsdf = Material::bsdf(
@@ -127,7 +122,7 @@ impl LightPathTracer for ParticleTracer {
                         // |cos_g(camera)| / |cos_g(previous)|.
                         let f = bsdf.eval_pdf(cam_local, prev_local).0;
                         let value =
-                            throughput * f * (cos_g_cam.abs() / cos_g_prev.abs() * c.weight);
+                            path.throughput * f * (cos_g_cam.abs() / cos_g_prev.abs() * c.weight);
                         if value != Vec3::ZERO {
                             let t_max = c.dist * (1.0 - SHADOW_EPSILON);
                             if visible(scene, &si, c.wi, t_max, sampler, ctx) {
@@ -138,45 +133,17 @@ impl LightPathTracer for ParticleTracer {
                 }
             }
             // BSDF sampling continues the light path.
-            let u_lobe = sampler.get_1d();
-            let u_bsdf = sampler.get_2d();
-            let Some(bs) = bsdf.sample(prev_local, u_lobe, u_bsdf) else {
+            if !path.scatter(
+                &si,
+                &frame,
+                &bsdf,
+                prev_local,
+                cos_g_prev,
+                self.rr_depth,
+                sampler,
+                ctx,
+            ) {
                 break;
-            };
-            let w_new = frame.to_world(bs.wi);
-            let cos_g_new = si.n.dot(w_new);
-            if cos_g_new * bs.wi.z <= 0.0 {
-                break;
-            }
-            // Importance is not scaled by refraction as radiance is: `bs.eta²` undoes the
-            // radiance BSDF's 1/eta² (Veach 1997 section 5.2); the shading normals' adjoint
-            // factor as at the connection.
-            let correction = (prev_local.z * cos_g_new / (bs.wi.z * cos_g_prev)).abs();
-            throughput *= bs.weight * (bs.eta * bs.eta * correction);
-            eta *= bs.eta;
-            if bs
-                .lobe
-                .contains(crate::shading::bsdf::BsdfFlags::DELTA_TRANSMISSION)
-                || bs.wi.z * prev_local.z < 0.0
-            {
-                ctx.rays.refraction += 1;
-            } else {
-                ctx.rays.reflection += 1;
-            }
-            ray = Ray::new(offset_ray_origin(si.p, si.p_error, si.n, w_new), w_new);
-            depth += 1;
-            let t = throughput.max_element() * eta * eta;
-            if t <= 0.0 || !t.is_finite() {
-                break;
-            }
-            // Russian roulette after `rr_depth` vertices, on the throughput with refraction's
-            // scaling undone (Mitsuba's ptracer: max(throughput) eta²).
-            if depth > self.rr_depth {
-                let q = t.min(RR_MAX_PROBABILITY);
-                if sampler.get_1d() >= q {
-                    break;
-                }
-                throughput /= q;
             }
         }
     }

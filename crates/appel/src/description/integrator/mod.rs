@@ -3,6 +3,8 @@
 
 mod aov;
 mod ptracer;
+mod sppm;
 
 pub use aov::{AovChannel, AovParams, AovType};
 pub use ptracer::PtracerParams;
+pub use sppm::SppmParams;

@@ -5,6 +5,7 @@ use super::parser::Directive;
 use super::tokenizer::Loc;
 use crate::description::{
     CameraDesc, CameraKind, FilterDesc, FovAxis, IntegratorName, RenderDesc, SamplerName,
+    SppmParams,
 };
 use crate::error::Result;
 use glam::{DMat4, DVec3};
@@ -20,8 +21,11 @@ pub(super) struct SceneOptions {
     /// Whether the `Integrator` renders media (`volpath`, pbrt-v4's default, and
     /// `simplevolpath`); `None` before an `Integrator`.
     volumetric: Option<bool>,
-    /// The integrator `Integrator` names where Appel has it (`bdpt`, `lightpath`); path otherwise.
+    /// The integrator `Integrator` names where Appel has it (`bdpt`, `lightpath`, `sppm`); path
+    /// otherwise.
     integrator: Option<IntegratorName>,
+    /// `sppm`'s `radius` and `photonsperiteration`.
+    sppm: Option<SppmParams>,
 }
 
 struct Camera {
@@ -209,28 +213,52 @@ impl SceneOptions {
         Ok(())
     }
 
-    /// `Integrator`: `bdpt` is Appel's bidirectional path tracer and `lightpath` its particle
-    /// tracer (`ptracer`); pbrt's other estimators of the light transport equation (Metropolis,
-    /// photon mapping) converge to the image the path tracer converges to (Veach 1997, ch. 8-11;
-    /// SPPM in the limit of its shrinking radius, Hachisuka and Jensen 2009), so they are rendered
-    /// with it and a warning says so; an integrator that computes something else (ambient
-    /// occlusion, AOVs) is an error.
+    /// `Integrator`: `bdpt` is Appel's bidirectional path tracer, `lightpath` its particle
+    /// tracer (`ptracer`) and `sppm` its photon mapping; pbrt's other estimators of the light
+    /// transport equation (Metropolis, the simple path tracers) converge to the image the path
+    /// tracer converges to (Veach 1997, ch. 8-11), so they are rendered with it and a warning
+    /// says so; an integrator that computes something else (ambient occlusion, AOVs) is an
+    /// error.
     pub fn integrator(&mut self, d: &Directive, warnings: &mut Vec<String>) -> Result<()> {
         self.volumetric = Some(matches!(d.strings[0].as_str(), "volpath" | "simplevolpath"));
         match d.strings[0].as_str() {
             "path" | "volpath" => {}
             "bdpt" => self.integrator = Some(IntegratorName::Bdpt),
             "lightpath" => self.integrator = Some(IntegratorName::Ptracer),
-            same @ ("mlt" | "sppm" | "simplepath" | "randomwalk" | "simplevolpath") => warnings
-                .push(format!(
+            "sppm" => {
+                self.integrator = Some(IntegratorName::Sppm);
+                let p = &d.params;
+                let radius = p.float_or("radius", 1.0)?;
+                if !(radius > 0.0 && radius.is_finite()) {
+                    let at = p.get("radius").map_or(&d.loc, |p| &p.loc);
+                    return Err(at.error(format!("radius must be positive, got {radius}")));
+                }
+                let photons = p.int("photonsperiteration")?.unwrap_or(-1);
+                if photons == 0 || photons < -1 || photons > u32::MAX as i64 {
+                    let at = p.get("photonsperiteration").map_or(&d.loc, |p| &p.loc);
+                    return Err(at.error(format!(
+                        "photonsperiteration must be positive, or -1 for one per pixel, got \
+                         {photons}"
+                    )));
+                }
+                // The photons' own sequence follows from the scene's seed.
+                p.ignore("seed");
+                self.sppm = Some(SppmParams {
+                    radius: radius as f32,
+                    photons_per_iteration: photons.max(0) as u32,
+                });
+            }
+            same @ ("mlt" | "simplepath" | "randomwalk" | "simplevolpath") => {
+                warnings.push(format!(
                     "{}: Integrator \"{same}\" is rendered with Appel's path tracer: it converges \
                  to the same image, with other noise",
                     d.loc.describe()
-                )),
+                ))
+            }
             other => {
                 return Err(d.loc.error(format!(
                     "unsupported integrator \"{other}\" (supported: path, volpath, bdpt, \
-                     lightpath; mlt, sppm, simplepath, randomwalk and simplevolpath are rendered \
+                     lightpath, sppm; mlt, simplepath, randomwalk and simplevolpath are rendered \
                      as path)"
                 )))
             }
@@ -339,6 +367,7 @@ impl SceneOptions {
             sampler: Some(sampler),
             seed,
             filter: self.filter.unwrap_or(FilterDesc::Gaussian { stddev: 0.5 }),
+            sppm: self.sppm,
             ..RenderDesc::default()
         };
         Ok((camera, render))

@@ -94,7 +94,24 @@ fn other_estimators_of_the_same_light_are_path_traced() {
         "Integrator \"bdpt\" \"bool visualizeweights\" true\n{CAMERA}WorldBegin\n"
     ));
     assert!(e.contains("\"visualizeweights\" is not supported"), "{e}");
-    for name in ["sppm", "mlt"] {
+    let s = load(&format!(
+        "Integrator \"sppm\" \"integer maxdepth\" 7 \"float radius\" 0.01 \
+         \"integer photonsperiteration\" 5000 \"integer seed\" 3\n{CAMERA}WorldBegin\n"
+    ))
+    .unwrap();
+    assert_eq!(s.description.render.integrator, IntegratorName::Sppm);
+    assert_eq!(s.description.render.max_depth, 8);
+    let sppm = s.description.render.sppm.unwrap();
+    assert_eq!((sppm.radius, sppm.photons_per_iteration), (0.01, 5000));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let e = err(&format!(
+        "Integrator \"sppm\"\n  \"float radius\" -1\n{CAMERA}WorldBegin\n"
+    ));
+    assert!(
+        e.contains("a.pbrt:2:3") && e.contains("radius must be positive"),
+        "{e}"
+    );
+    for name in ["mlt", "simplepath"] {
         let s = load(&format!(
             "Integrator \"{name}\" \"integer maxdepth\" 7\n{CAMERA}WorldBegin\n"
         ))

@@ -365,6 +365,21 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
             r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
         }
+        // Appel's own, as `bdpt`: `path`'s keys and pbrt-v4's `sppm` parameters.
+        "sppm" => {
+            r.integrator = IntegratorName::Sppm;
+            r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
+            r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
+            let radius = i.float("radius")?.unwrap_or(1.0);
+            if !(radius > 0.0 && radius.is_finite()) {
+                return Err(i.error(format!("radius must be positive, got {radius}")));
+            }
+            let photons = i.int_in("photons_per_iteration", 0..=u32::MAX as i64)?;
+            r.sppm = Some(crate::description::SppmParams {
+                radius: radius as f32,
+                photons_per_iteration: photons.unwrap_or(0) as u32,
+            });
+        }
         "ptracer" => {
             r.integrator = IntegratorName::Ptracer;
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
