@@ -27,7 +27,7 @@ fn compare_with_reference(
     spp: u32,
     depth: i32,
     as_rendered: impl FnOnce(&mut Description),
-    unresolved: fn(&[[f32; 3]], usize) -> Vec<[f32; 3]>,
+    unresolved: Unresolved,
 ) -> (Comparison, Comparison) {
     let (scene, ref_path) = (shared(scene), shared(reference_exr));
     let loaded = appel::format::load(&scene, &Default::default()).unwrap_or_else(|e| panic!("{e}"));
@@ -70,6 +70,9 @@ fn compare_with_reference(
     let c_darker = compare_within(&film, &darker, &with_unresolved(&darker));
     (c, c_darker)
 }
+
+/// The allowance for the values of a reference (of the given width) that a render cannot resolve.
+type Unresolved = fn(&[[f32; 3]], usize) -> Vec<[f32; 3]>;
 
 /// Every value is resolved.
 fn none_unresolved(reference: &[[f32; 3]], _: usize) -> Vec<[f32; 3]> {
@@ -137,7 +140,7 @@ fn check_with(
     spp: u32,
     depth: i32,
     as_rendered: impl FnOnce(&mut Description),
-    unresolved: fn(&[[f32; 3]], usize) -> Vec<[f32; 3]>,
+    unresolved: Unresolved,
 ) {
     let (c, c_darker) = compare_with_reference(
         scene,
