@@ -80,7 +80,7 @@ fn none_unresolved(reference: &[[f32; 3]], _: usize) -> Vec<[f32; 3]> {
 }
 
 /// The reference's isolated highlights: values more than four times every 4-neighbour's (a
-/// light seen through glass, smaller than the pixel). A pixel sample finds such a highlight with
+/// light seen through glass, a small fraction of the pixel). A pixel sample finds such a highlight with
 /// the chance of its share of the pixel's area, so at a few dozen samples per pixel a render
 /// either misses it or hits it a few times, and the pixel's own variance says nothing of how
 /// far off that is: such a value may be off by all of it.
@@ -187,8 +187,9 @@ fn cornell_box_pbrt_bdpt_against_tungsten() {
 
 /// Veach's bidirectional test scene (a floor lamp lights the room by way of the ceiling, a wall
 /// lamp's small bright light sits in a rough conductor shade, a glass egg on the table) by the
-/// file's own `bdpt`, `maxdepth 7`, against Tungsten at 64 x 64, except the egg's highlight (a
-/// few percent of one pixel: [`isolated_highlights`]).
+/// file's own `bdpt`, `maxdepth 7`, against Tungsten at 64 x 64, except the egg's highlight (the
+/// wall lamp's light seen through the egg, about 0.1% of a 128 x 128 pixel:
+/// [`isolated_highlights`]).
 #[test]
 #[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn veach_bidir_pbrt_bdpt_against_tungsten() {
