@@ -224,7 +224,6 @@ fn random_walk<S: Sampler>(
             scene.geometry.material(&h.hit),
             &at,
         );
-        let prev = *path.last().expect("a subpath starts with its endpoint");
         let mut v = Vertex {
             kind: Kind::Surface(surface_emitter(scene, &h)),
             p: si.p,
@@ -238,7 +237,11 @@ fn random_walk<S: Sampler>(
             pdf_fwd: 0.0,
             pdf_rev: 0.0,
         };
-        v.pdf_fwd = to_area(pdf_dir, &prev, &v);
+        v.pdf_fwd = to_area(
+            pdf_dir,
+            path.last().expect("a subpath starts with its endpoint"),
+            &v,
+        );
         path.push(v);
         if path.len() >= max {
             break;
@@ -270,8 +273,7 @@ fn random_walk<S: Sampler>(
         eta *= bs.eta;
         let n = path.len();
         path[n - 1].delta = delta;
-        let this = path[n - 1];
-        path[n - 2].pdf_rev = to_area(rev, &this, &path[n - 2]);
+        path[n - 2].pdf_rev = to_area(rev, &path[n - 1], &path[n - 2]);
         pdf_dir = fwd;
         if bs.wi.z * wo.z < 0.0 {
             ctx.rays.refraction += 1;

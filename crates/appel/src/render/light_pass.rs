@@ -31,6 +31,10 @@ use std::time::Instant;
 /// batch of a small image still spreads over the threads.
 const CHUNK: u32 = 256;
 
+/// The most light paths of one parallel pass, whose splats are all held until the pass ends
+/// (a few tens of bytes a path): without a time limit the render loop's pass is every sample.
+const PATHS_PER_PASS: u64 = 1 << 20;
+
 /// What traces one light path.
 pub trait LightPathTracer: Sync {
     /// Working memory reused from one path to the next within a chunk (subpath vertices), so
@@ -226,6 +230,7 @@ fn run<T: LightPathTracer, S: Sampler>(
         if batches_per_pass > 0 {
             count = count.min(batches_per_pass);
         }
+        count = count.min((PATHS_PER_PASS / paths).max(1) as u32);
         let results: Vec<Option<(Vec<Splat>, TraceContext)>> = (0..count * chunks)
             .into_par_iter()
             .map(|item| {
