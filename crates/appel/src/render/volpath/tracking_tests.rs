@@ -5,7 +5,6 @@
 //! expectation).
 
 use super::{medium_transmittance, sample_flight};
-use crate::io::grid_volume::GridVolume;
 use crate::math::{Ray, Vec3};
 use crate::render::sampler::{IndependentSampler, Sampler};
 use crate::shading::medium::volume::{Grid, VolumeValues};
@@ -25,14 +24,12 @@ fn corner_medium(majorant_resolution: [usize; 3]) -> Medium {
     }
     let sigma_t = Volume {
         to_local: Mat4::from_scale(Vec3::splat(2.0)).inverse(),
-        values: VolumeValues::Grid(Grid::new(
-            GridVolume {
-                resolution: [16, 16, 16],
-                channels: 1,
-                data,
-            },
-            false,
-        )),
+        values: VolumeValues::Grid(Grid {
+            resolution: [16, 16, 16],
+            channels: 1,
+            data,
+            nearest: false,
+        }),
     };
     let albedo = Volume {
         to_local: Mat4::IDENTITY,
