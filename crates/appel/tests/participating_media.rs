@@ -1,11 +1,12 @@
 //! The volumetric path tracer against closed forms and against itself: Beer-Lambert
 //! transmittance through an absorbing slab, a white furnace of scattering media, a heterogeneous
-//! medium whose grid is constant against the homogeneous medium of the same density, and the
-//! errors of media that make no sense.
+//! medium whose grid is constant against the homogeneous medium of the same density, local
+//! majorants against one global majorant, and the errors of media that make no sense.
 
 use appel::description::{description_from_str, parse::Syntax, Description};
 use appel::render::{render, Film, RenderOptions};
 use appel::scene::Scene;
+use appel::shading::medium::Medium;
 use std::path::Path;
 
 #[path = "common/normal.rs"]
@@ -159,29 +160,86 @@ fn a_constant_grid_renders_as_the_homogeneous_medium() {
         "type = \"homogeneous\"\nsigma_t = [3.0, 1.5, 0.75]\nalbedo = 0.8\nphase = { type = \"hg\", g = 0.4 }",
         2,
     ));
-    let tests = (3 * grid.rgb.len()) as f64;
+    assert_same_expectation(&grid, &homogeneous);
+    let m2 = mean_and_error(&homogeneous).0;
+    // And the medium is there: the cube is darker than the same scene without it.
+    let empty = film(&cube_scene("type = \"homogeneous\"\nsigma_t = 0.0", 3));
+    assert!(mean_and_error(&empty).0[2] > m2[2] * 1.05);
+}
+
+/// A grid whose one dense block fills a corner and is empty elsewhere renders the same with its
+/// local majorants as with one global majorant (Mitsuba's tracking), pixel by pixel and in the
+/// mean: the majorant grid changes the cost of tracking, not its expectation.
+#[test]
+fn local_majorants_render_as_the_global_majorant() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 16;
+    let values: Vec<f32> = (0..n * n * n)
+        .map(|i| {
+            let (x, y, z) = (i % n, i / n % n, i / (n * n));
+            if x < 5 && y < 6 && z >= 11 {
+                1.0
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    std::fs::write(
+        dir.path().join("corner.vol"),
+        vol_bytes([16, 16, 16], 1, &values),
+    )
+    .unwrap();
+    let medium = "type = \"heterogeneous\"\nscale = 12.0\nalbedo = 0.8\nphase = { type = \"hg\", g = 0.3 }\n\
+                  sigma_t = { type = \"gridvolume\", file = \"corner.vol\" }";
+    let render_with = |global: bool, seed: u32| {
+        let mut scene = Scene::new(&description(&cube_scene(medium, seed)), dir.path())
+            .unwrap_or_else(|e| panic!("{e}"));
+        let Medium::Heterogeneous(m) = &mut scene.media.media[0] else {
+            panic!("a heterogeneous medium");
+        };
+        assert_eq!(m.majorants.resolution, [4, 4, 4]);
+        assert!(m.majorants.max.iter().filter(|&&v| v == 0.0).count() > 32);
+        if global {
+            m.set_majorant_resolution([1, 1, 1]);
+        }
+        render(&scene, &RenderOptions::default()).unwrap().0
+    };
+    let local = render_with(false, 1);
+    let global = render_with(true, 2);
+    assert_same_expectation(&local, &global);
+    // And the medium is there: the cube is darker than the same scene without it.
+    let empty = film(&cube_scene("type = \"homogeneous\"\nsigma_t = 0.0", 3));
+    let (m_local, e_local) = mean_and_error(&local);
+    let m_empty = mean_and_error(&empty).0;
+    assert!(
+        m_empty[1] - m_local[1] > 6.0 * e_local[1],
+        "{m_empty:?} vs {m_local:?}"
+    );
+}
+
+/// Two renders of one scene agree: every pixel by a two-sample z-test, Šidák-corrected over the
+/// pixels, and the image means within 4 standard errors.
+fn assert_same_expectation(a: &Film, b: &Film) {
+    let tests = (3 * a.rgb.len()) as f64;
     // Two-sided threshold for a 1% overall false-failure rate.
     let alpha = 1.0 - 0.99f64.powf(1.0 / tests);
     let z_max = inverse_normal_tail(alpha / 2.0);
-    for (i, (a, b)) in grid.rgb.iter().zip(&homogeneous.rgb).enumerate() {
+    for (i, (x, y)) in a.rgb.iter().zip(&b.rgb).enumerate() {
         for k in 0..3 {
-            let var = (grid.variance[i][k] + homogeneous.variance[i][k]) as f64;
-            let z = (a[k] - b[k]) as f64 / var.max(1e-10).sqrt();
+            let var = (a.variance[i][k] + b.variance[i][k]) as f64;
+            let z = (x[k] - y[k]) as f64 / var.max(1e-10).sqrt();
             assert!(
                 z.abs() < z_max,
-                "pixel {i} channel {k}: {a} vs {b} (z = {z})"
+                "pixel {i} channel {k}: {x} vs {y} (z = {z})"
             );
         }
     }
-    let (m1, e1) = mean_and_error(&grid);
-    let (m2, e2) = mean_and_error(&homogeneous);
+    let (m1, e1) = mean_and_error(a);
+    let (m2, e2) = mean_and_error(b);
     for k in 0..3 {
         let e = (e1[k] * e1[k] + e2[k] * e2[k]).sqrt();
         assert!((m1[k] - m2[k]).abs() < 4.0 * e, "{m1:?} vs {m2:?} +- {e}");
     }
-    // And the medium is there: the cube is darker than the same scene without it.
-    let empty = film(&cube_scene("type = \"homogeneous\"\nsigma_t = 0.0", 3));
-    assert!(mean_and_error(&empty).0[2] > m2[2] * 1.05);
 }
 
 /// The z beyond which the standard normal's upper tail holds `p` (bisection on erfc).

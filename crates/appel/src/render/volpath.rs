@@ -360,12 +360,14 @@ fn beer_lambert(sigma: Vec3, d: f32) -> Vec3 {
     )
 }
 
-/// A free flight along `ray` through medium `m` up to `t_surface` by delta tracking, distances
-/// drawn with the majorant of `channel`. A tentative collision at distance `dt` has density
-/// `m_c exp(-m_c dt)` and the majorant's transmittance `exp(-majorant dt)` per channel; it
-/// scatters with [`scatter_probability`] (weight `sigma_s` over that probability), or is null
-/// (weight `majorant - sigma_t` over its probability); reaching the end has probability
-/// `exp(-m_c d)`.
+/// A free flight along `ray` through medium `m` up to `t_surface` by delta tracking over the
+/// medium's majorant segments (pbrt-v4's `SampleT_maj`), distances drawn with the segment's
+/// majorant of `channel`. A tentative collision at distance `dt` has density `m_c exp(-m_c dt)`
+/// and the majorant's transmittance `exp(-majorant dt)` per channel; it scatters with
+/// [`scatter_probability`] (weight `sigma_s` over that probability), or is null (weight
+/// `majorant - sigma_t` over its probability); passing a segment's end has probability
+/// `exp(-m_c d)`, and the exponential's memorylessness lets the next segment draw afresh at its
+/// own rate.
 fn sample_flight<S: Sampler>(
     m: &Medium,
     ray: &Ray,
@@ -373,51 +375,47 @@ fn sample_flight<S: Sampler>(
     channel: usize,
     sampler: &mut S,
 ) -> Flight {
-    let Some((t0, t1)) = m.range(ray, t_surface) else {
-        return Flight {
-            scatter: None,
-            weight: Vec3::ONE,
-        };
-    };
-    let majorant = m.majorant();
-    let m_c = majorant[channel];
-    if m_c <= 0.0 || !m_c.is_finite() {
-        // This channel sees nothing to collide with: the others' transmittance.
-        return Flight {
-            scatter: None,
-            weight: beer_lambert(majorant, t1 - t0),
-        };
-    }
-    let mut t = t0;
     let mut weight = Vec3::ONE;
-    loop {
-        let dt = -(1.0 - sampler.get_1d()).ln() / m_c;
-        if t + dt >= t1 {
-            // exp(-majorant d) / exp(-m_c d).
-            return Flight {
-                scatter: None,
-                weight: weight * beer_lambert(majorant - m_c, t1 - t),
-            };
+    for segment in m.majorants(ray, t_surface) {
+        let majorant = segment.majorant;
+        let m_c = majorant[channel];
+        if m_c <= 0.0 || !m_c.is_finite() {
+            // This channel sees nothing to collide with here: the others' transmittance.
+            weight *= beer_lambert(majorant, segment.t1 - segment.t0);
+            continue;
         }
-        t += dt;
-        let p = ray.at(t);
-        let (sigma_t, sigma_s) = m.coefficients(p);
-        // The majorant's transmittance over the collision's density.
-        let ratio = beer_lambert(majorant - m_c, dt) / m_c;
-        let p_scatter = scatter_probability(sigma_t, majorant);
-        if sampler.get_1d() < p_scatter {
-            return Flight {
-                scatter: Some(p),
-                weight: weight * ratio * sigma_s / p_scatter,
-            };
+        let mut t = segment.t0;
+        loop {
+            let dt = -(1.0 - sampler.get_1d()).ln() / m_c;
+            if t + dt >= segment.t1 {
+                // exp(-majorant d) / exp(-m_c d).
+                weight *= beer_lambert(majorant - m_c, segment.t1 - t);
+                break;
+            }
+            t += dt;
+            let p = ray.at(t);
+            let (sigma_t, sigma_s) = m.coefficients(p);
+            // The majorant's transmittance over the collision's density.
+            let ratio = beer_lambert(majorant - m_c, dt) / m_c;
+            let p_scatter = scatter_probability(sigma_t, majorant);
+            if sampler.get_1d() < p_scatter {
+                return Flight {
+                    scatter: Some(p),
+                    weight: weight * ratio * sigma_s / p_scatter,
+                };
+            }
+            weight *= ratio * (majorant - sigma_t).max(Vec3::ZERO) / (1.0 - p_scatter);
+            if weight.max_element() <= 0.0 || !weight.is_finite() {
+                return Flight {
+                    scatter: None,
+                    weight: Vec3::ZERO,
+                };
+            }
         }
-        weight *= ratio * (majorant - sigma_t).max(Vec3::ZERO) / (1.0 - p_scatter);
-        if weight.max_element() <= 0.0 || !weight.is_finite() {
-            return Flight {
-                scatter: None,
-                weight: Vec3::ZERO,
-            };
-        }
+    }
+    Flight {
+        scatter: None,
+        weight,
     }
 }
 
@@ -444,8 +442,9 @@ fn scatter_probability(sigma_t: Vec3, majorant: Vec3) -> f32 {
 }
 
 /// The transmittance of medium `m` along `ray` up to `t_end`: exact in a homogeneous medium,
-/// else ratio tracking with `channel`'s majorant (each tentative collision weighs
-/// `(majorant - sigma_t)` over the majorant, with the channels' transmittance ratio).
+/// else ratio tracking over the medium's majorant segments with `channel`'s majorant (each
+/// tentative collision weighs `(majorant - sigma_t)` over the majorant, with the channels'
+/// transmittance ratio).
 fn medium_transmittance<S: Sampler>(
     m: &Medium,
     ray: &Ray,
@@ -453,31 +452,30 @@ fn medium_transmittance<S: Sampler>(
     channel: usize,
     sampler: &mut S,
 ) -> Vec3 {
-    let Some((t0, t1)) = m.range(ray, t_end) else {
-        return Vec3::ONE;
-    };
-    let majorant = m.majorant();
-    if m.is_homogeneous() {
-        return beer_lambert(majorant, t1 - t0);
-    }
-    let m_c = majorant[channel];
-    if m_c <= 0.0 || !m_c.is_finite() {
-        return beer_lambert(majorant, t1 - t0);
-    }
-    let mut t = t0;
     let mut tr = Vec3::ONE;
-    loop {
-        let dt = -(1.0 - sampler.get_1d()).ln() / m_c;
-        if t + dt >= t1 {
-            return tr * beer_lambert(majorant - m_c, t1 - t);
+    for segment in m.majorants(ray, t_end) {
+        let majorant = segment.majorant;
+        let m_c = majorant[channel];
+        if m.is_homogeneous() || m_c <= 0.0 || !m_c.is_finite() {
+            tr *= beer_lambert(majorant, segment.t1 - segment.t0);
+            continue;
         }
-        t += dt;
-        let (sigma_t, _) = m.coefficients(ray.at(t));
-        tr *= beer_lambert(majorant - m_c, dt) * (majorant - sigma_t).max(Vec3::ZERO) / m_c;
-        if tr.max_element() <= 0.0 || !tr.is_finite() {
-            return Vec3::ZERO;
+        let mut t = segment.t0;
+        loop {
+            let dt = -(1.0 - sampler.get_1d()).ln() / m_c;
+            if t + dt >= segment.t1 {
+                tr *= beer_lambert(majorant - m_c, segment.t1 - t);
+                break;
+            }
+            t += dt;
+            let (sigma_t, _) = m.coefficients(ray.at(t));
+            tr *= beer_lambert(majorant - m_c, dt) * (majorant - sigma_t).max(Vec3::ZERO) / m_c;
+            if tr.max_element() <= 0.0 || !tr.is_finite() {
+                return Vec3::ZERO;
+            }
         }
     }
+    tr
 }
 
 /// The transmittance from `ray`'s origin to distance `t_max` along it, starting in `medium`:
@@ -533,3 +531,6 @@ fn transmittance<S: Sampler>(
     }
     Vec3::ZERO
 }
+
+#[cfg(test)]
+mod tracking_tests;

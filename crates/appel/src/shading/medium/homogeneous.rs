@@ -2,6 +2,7 @@
 //! volume, filling all space on its side of the surfaces that bound it. Its majorant is its
 //! extinction, so distance sampling meets no null collisions.
 
+use super::majorant_grid::{MajorantSegment, Majorants};
 use super::{MediumPlugin, Phase, Volume};
 use crate::math::{Ray, Vec3};
 
@@ -17,13 +18,12 @@ impl MediumPlugin for Homogeneous {
     const HOMOGENEOUS: bool = true;
 
     #[inline]
-    fn range(&self, _ray: &Ray, t_max: f32) -> Option<(f32, f32)> {
-        Some((0.0, t_max))
-    }
-
-    #[inline]
-    fn majorant(&self) -> Vec3 {
-        self.sigma_t
+    fn majorants(&self, _ray: &Ray, t_max: f32) -> Majorants<'_> {
+        Majorants::One(Some(MajorantSegment {
+            t0: 0.0,
+            t1: t_max,
+            majorant: self.sigma_t,
+        }))
     }
 
     #[inline]

@@ -10,12 +10,14 @@
 //! the cosine's term flipped; the values agree.
 
 mod build;
+pub mod majorant_grid;
 pub mod volume;
 
 #[cfg(test)]
 mod tests;
 
 pub use build::build_medium;
+pub use majorant_grid::{MajorantGrid, MajorantSegment, Majorants};
 pub use volume::Volume;
 
 use crate::math::{Ray, Vec2, Vec3};
@@ -47,7 +49,7 @@ pub trait PhasePlugin {
     fn sample(&self, d: Vec3, u1: f32, u2: Vec2) -> Option<PhaseSample>;
 }
 
-/// A participating medium: where along a ray it can interact, a majorant of its extinction
+/// A participating medium: where along a ray it can interact, with majorants of its extinction
 /// there, and its coefficients at a point (Woodcock et al. 1965's null-collision setting, as in
 /// pbrt-v4 section 14.2 and Mitsuba 3's `Medium`).
 pub trait MediumPlugin {
@@ -57,12 +59,9 @@ pub trait MediumPlugin {
     /// Whether the extinction is the same everywhere (then transmittance is `exp(-sigma_t d)`).
     const HOMOGENEOUS: bool;
 
-    /// The part `(t0, t1)` of the ray's `[0, t_max]` where the medium may interact; `None` if
-    /// the ray misses it.
-    fn range(&self, ray: &Ray, t_max: f32) -> Option<(f32, f32)>;
-
-    /// A bound on the extinction over [`MediumPlugin::range`], per channel.
-    fn majorant(&self) -> Vec3;
+    /// The parts of the ray's `[0, t_max]` where the medium may interact, in order, each with
+    /// a bound on the extinction there (per channel); none if the ray misses the medium.
+    fn majorants(&self, ray: &Ray, t_max: f32) -> Majorants<'_>;
 
     /// Extinction and scattering coefficients `(sigma_t, sigma_s)` at `p`.
     fn coefficients(&self, p: Vec3) -> (Vec3, Vec3);
@@ -147,19 +146,11 @@ macro_rules! define_media {
                 }
             }
 
-            /// See [`MediumPlugin::range`].
+            /// See [`MediumPlugin::majorants`].
             #[inline]
-            pub fn range(&self, ray: &Ray, t_max: f32) -> Option<(f32, f32)> {
+            pub fn majorants(&self, ray: &Ray, t_max: f32) -> Majorants<'_> {
                 match self {
-                    $(Medium::$Variant(m) => m.range(ray, t_max),)*
-                }
-            }
-
-            /// See [`MediumPlugin::majorant`].
-            #[inline]
-            pub fn majorant(&self) -> Vec3 {
-                match self {
-                    $(Medium::$Variant(m) => m.majorant(),)*
+                    $(Medium::$Variant(m) => m.majorants(ray, t_max),)*
                 }
             }
 

@@ -158,22 +158,133 @@ fn volumes_bound_their_box() {
     assert!(v.range(&miss, 100.0).is_none());
 }
 
-/// The heterogeneous medium's majorant bounds its extinction everywhere (trilinear values never
-/// exceed the largest sample).
-#[test]
-fn the_majorant_bounds_the_extinction() {
-    let mut rng = Pcg32::new(5, 5);
-    let data: Vec<f32> = (0..4 * 3 * 5).map(|_| rng.next_f32()).collect();
-    let m = Heterogeneous::new(
-        grid([4, 3, 5], 1, data),
+/// A grid of random values, a third of them zero (sparse, as clouds are).
+fn random_grid(rng: &mut Pcg32, res: [usize; 3], nearest: bool) -> Volume {
+    let n = res.iter().product::<usize>();
+    let data = (0..n)
+        .map(|_| {
+            let v = rng.next_f32();
+            if v < 0.33 {
+                0.0
+            } else {
+                v
+            }
+        })
+        .collect();
+    let mut v = grid(res, 1, data);
+    if let VolumeValues::Grid(g) = &mut v.values {
+        g.nearest = nearest;
+    }
+    v
+}
+
+fn medium_over(sigma_t: Volume) -> Heterogeneous {
+    Heterogeneous::new(
+        sigma_t,
         grid([1, 1, 1], 1, vec![0.5]),
         7.0,
         Phase::Isotropic(Isotropic),
-    );
-    for _ in 0..10_000 {
-        let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 1.2 - 0.1;
-        let (sigma_t, sigma_s) = m.coefficients(p);
-        assert!(sigma_t.max_element() <= m.majorant().x * (1.0 + 1e-6));
-        assert!((sigma_s - sigma_t * 0.5).abs().max_element() < 1e-6);
+    )
+}
+
+/// Every majorant cell bounds the extinction at every point in it, for trilinear and nearest
+/// lookups, over majorant grids from one cell (the global majorant) to one cell per sample, and
+/// at points beyond the cube (the lookups clamp).
+#[test]
+fn local_majorants_bound_the_extinction() {
+    let mut rng = Pcg32::new(5, 5);
+    for nearest in [false, true] {
+        let mut m = medium_over(random_grid(&mut rng, [9, 6, 13], nearest));
+        for res in [[1, 1, 1], [3, 2, 4], [9, 6, 13], [5, 7, 2]] {
+            m.set_majorant_resolution(res);
+            for _ in 0..20_000 {
+                let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 1.2 - 0.1;
+                let (sigma_t, sigma_s) = m.coefficients(p);
+                let bound = m.majorants.at(p);
+                assert!(
+                    sigma_t.max_element() <= bound,
+                    "{res:?} nearest {nearest}: {sigma_t} above {bound} at {p}"
+                );
+                assert!((sigma_s - sigma_t * 0.5).abs().max_element() < 1e-5);
+            }
+        }
     }
+}
+
+/// The local majorants are tight where the grid is empty: in a grid whose one dense block sits
+/// in a corner, only the cells the block's interpolation reaches are above zero.
+#[test]
+fn local_majorants_are_zero_where_the_grid_is_empty() {
+    let corner = |x: usize, y: usize, z: usize| x < 4 && y < 4 && z < 4;
+    let mut data = vec![0.0f32; 16 * 16 * 16];
+    for (i, v) in data.iter_mut().enumerate() {
+        if corner(i % 16, i / 16 % 16, i / 256) {
+            *v = 8.0;
+        }
+    }
+    let m = medium_over(grid([16, 16, 16], 1, data));
+    assert_eq!(m.majorants.resolution, [4, 4, 4]);
+    // The block fills cell 0 along each axis; interpolation in cell 1 reaches back half a
+    // sample to sample 3, in the block, and cell 2 reads nothing of it.
+    let busy: Vec<usize> = (0..64).filter(|&i| m.majorants.max[i] > 0.0).collect();
+    assert_eq!(busy, vec![0, 1, 4, 5, 16, 17, 20, 21]);
+    assert!((m.majorants.max[0] / 56.0 - 1.0).abs() < 1e-5);
+}
+
+/// A ray's walk through the majorant grid covers its part inside the box, segment after segment
+/// without gaps, and each segment's majorant is that of the cell its points are in.
+#[test]
+fn the_walk_covers_the_ray_in_its_cells() {
+    let mut rng = Pcg32::new(9, 3);
+    let mut v = random_grid(&mut rng, [9, 6, 13], false);
+    v.to_local = Mat4::from_scale_rotation_translation(
+        Vec3::new(2.0, 1.0, 3.0),
+        glam::Quat::from_rotation_y(0.4),
+        Vec3::new(-1.0, 0.2, 0.5),
+    )
+    .inverse();
+    let mut m = medium_over(v);
+    m.set_majorant_resolution([3, 2, 4]);
+    let mut walked = 0;
+    for i in 0..2_000 {
+        // Rays from around the box toward points near it, from inside it, and along the axes
+        // (a zero component never crosses a face on its axis).
+        let to_world = m.sigma_t.to_local.inverse();
+        let near_box = |rng: &mut Pcg32, spread: f32| {
+            let u = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            to_world.transform_point3((u - 0.5) * spread + 0.5)
+        };
+        let origin = near_box(&mut rng, if i % 3 == 0 { 0.9 } else { 3.0 });
+        let mut dir = near_box(&mut rng, 1.2) - origin;
+        if i % 5 == 0 {
+            dir = [Vec3::X, -Vec3::Y, Vec3::Z, -Vec3::X, Vec3::Y][i / 5 % 5];
+        }
+        let ray = Ray::new(origin, dir.normalize());
+        let t_max = 2.0 + 8.0 * rng.next_f32();
+        let range = m.sigma_t.range(&ray, t_max);
+        let segments: Vec<MajorantSegment> = m.majorants(&ray, t_max).collect();
+        let Some((t0, t1)) = range else {
+            assert!(segments.is_empty());
+            continue;
+        };
+        walked += 1;
+        assert_eq!(segments.first().map(|s| s.t0), Some(t0));
+        assert_eq!(segments.last().map(|s| s.t1), Some(t1));
+        for w in segments.windows(2) {
+            assert_eq!(w[0].t1, w[1].t0);
+        }
+        for s in &segments {
+            assert!(s.t0 <= s.t1);
+            if s.t1 - s.t0 < 1e-4 {
+                continue;
+            }
+            for f in [0.01, 0.5, 0.99] {
+                let t = s.t0 + (s.t1 - s.t0) * f;
+                let local = m.sigma_t.to_local.transform_point3(ray.at(t));
+                assert_eq!(s.majorant.x, m.majorants.at(local), "{ray:?} at {t}");
+                assert!(m.coefficients(ray.at(t)).0.x <= s.majorant.x);
+            }
+        }
+    }
+    assert!(walked > 1_000, "{walked} rays met the box");
 }

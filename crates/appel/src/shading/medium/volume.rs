@@ -41,8 +41,9 @@ impl Grid {
         }
     }
 
+    /// The sample at `i` (x, y, z).
     #[inline]
-    fn at(&self, i: [usize; 3]) -> Vec3 {
+    pub fn at(&self, i: [usize; 3]) -> Vec3 {
         let [rx, ry, _] = self.resolution;
         let k = ((i[2] * ry + i[1]) * rx + i[0]) * self.channels;
         if self.channels == 1 {
@@ -55,29 +56,35 @@ impl Grid {
     /// The value at a point of the unit cube (clamped outside it).
     #[inline]
     pub fn eval(&self, p: Vec3) -> Vec3 {
-        let res = self.resolution.map(|r| r as f32);
-        let clamp = |x: f32, r: usize| (x.max(0.0) as usize).min(r - 1);
+        let [rx, ry, rz] = self.resolution;
         if self.nearest {
-            let i = [0, 1, 2].map(|k| clamp((p[k] * res[k]).floor(), self.resolution[k]));
-            return self.at(i);
+            let clamp = |x: f32, r: usize| ((x * r as f32).max(0.0) as usize).min(r - 1);
+            return self.at([clamp(p.x, rx), clamp(p.y, ry), clamp(p.z, rz)]);
         }
-        let q = [0, 1, 2].map(|k| p[k] * res[k] - 0.5);
-        let base = q.map(f32::floor);
-        let f = [0, 1, 2].map(|k| q[k] - base[k]);
-        let lo = [0, 1, 2].map(|k| clamp(base[k], self.resolution[k]));
-        let hi = [0, 1, 2].map(|k| clamp(base[k] + 1.0, self.resolution[k]));
-        let mut v = Vec3::ZERO;
-        for corner in 0..8 {
-            let pick = |k: usize| corner >> k & 1 == 1;
-            let i = [0, 1, 2].map(|k| if pick(k) { hi[k] } else { lo[k] });
-            let w: f32 = (0..3)
-                .map(|k| if pick(k) { f[k] } else { 1.0 - f[k] })
-                .product();
-            if w > 0.0 {
-                v += self.at(i) * w;
-            }
+        // Per axis: the two samples around `p * res - 1/2` (clamped) and the weight of the
+        // second; flat offsets so that the eight reads share their arithmetic.
+        let axis = |x: f32, r: usize, stride: usize| {
+            let q = x * r as f32 - 0.5;
+            let base = q.floor();
+            let lo = (base.max(0.0) as usize).min(r - 1);
+            let hi = ((base + 1.0).max(0.0) as usize).min(r - 1);
+            (lo * stride, hi * stride, q - base)
+        };
+        let (x0, x1, fx) = axis(p.x, rx, 1);
+        let (y0, y1, fy) = axis(p.y, ry, rx);
+        let (z0, z1, fz) = axis(p.z, rz, rx * ry);
+        let lerp = |a: Vec3, b: Vec3, f: f32| a + (b - a) * f;
+        if self.channels == 1 {
+            let d = &self.data;
+            let lerp = |a: f32, b: f32, f: f32| a + (b - a) * f;
+            let row = |y: usize, z: usize| lerp(d[z + y + x0], d[z + y + x1], fx);
+            let plane = |z: usize| lerp(row(y0, z), row(y1, z), fy);
+            return Vec3::splat(lerp(plane(z0), plane(z1), fz));
         }
-        v
+        let at = |k: usize| Vec3::new(self.data[3 * k], self.data[3 * k + 1], self.data[3 * k + 2]);
+        let row = |y: usize, z: usize| lerp(at(z + y + x0), at(z + y + x1), fx);
+        let plane = |z: usize| lerp(row(y0, z), row(y1, z), fy);
+        lerp(plane(z0), plane(z1), fz)
     }
 
     /// The largest value of any channel (a bound on every interpolated value).
