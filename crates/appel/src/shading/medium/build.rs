@@ -2,11 +2,14 @@
 //! folder), constants resolved, phase functions built.
 
 use super::volume::{Grid, VolumeValues};
+use super::Scattering;
 use super::{
     BlendPhase, HenyeyGreenstein, Heterogeneous, Homogeneous, Isotropic, Medium, Phase, Rayleigh,
     Volume,
 };
-use crate::description::{MediumDesc, PhaseDesc, VolumeDesc, VolumeFilter, VolumeNode};
+use crate::description::{
+    HeterogeneousCoefficients, MediumDesc, PhaseDesc, VolumeDesc, VolumeFilter, VolumeNode,
+};
 use crate::error::{Error, Result};
 use crate::io::grid_volume::{read_grid_volume, GridVolume};
 use glam::{Mat4, Vec3};
@@ -27,12 +30,29 @@ pub fn build_medium(name: &str, d: &MediumDesc, base_dir: &Path) -> Result<Mediu
                 phase: phase(&h.phase),
             })
         }
-        MediumDesc::Heterogeneous(h) => Medium::Heterogeneous(Heterogeneous::new(
-            volume(&h.sigma_t, base_dir).map_err(at)?,
-            volume(&h.albedo, base_dir).map_err(at)?,
-            h.scale,
-            phase(&h.phase),
-        )),
+        MediumDesc::Heterogeneous(h) => {
+            let (sigma_t, scattering) = match h.coefficients() {
+                HeterogeneousCoefficients::ExtinctionAlbedo { sigma_t, albedo } => (
+                    volume(sigma_t, base_dir).map_err(at)?,
+                    Scattering::Albedo(volume(albedo, base_dir).map_err(at)?),
+                ),
+                HeterogeneousCoefficients::AbsorptionScattering { sigma_a, sigma_s } => {
+                    let scattering = volume(sigma_s, base_dir).map_err(at)?;
+                    let extinction = sum(
+                        (sigma_a, &volume(sigma_a, base_dir).map_err(at)?),
+                        (sigma_s, &scattering),
+                    )
+                    .map_err(at)?;
+                    (extinction, Scattering::Coefficient(scattering))
+                }
+            };
+            Medium::Heterogeneous(Heterogeneous::new(
+                sigma_t,
+                scattering,
+                h.scale,
+                phase(&h.phase),
+            ))
+        }
     })
 }
 
@@ -94,4 +114,58 @@ fn volume(d: &VolumeDesc, base_dir: &Path) -> Result<Volume> {
         )),
     };
     Ok(Volume { to_local, values })
+}
+
+/// The volume of `a + b`: the extinction of absorption and scattering volumes. A plain number
+/// (no volume of its own) takes the other's box; otherwise the two share their transform, and
+/// two grids their resolution and filter, so that the sum's lookup is the sum of their lookups.
+fn sum((da, a): (&VolumeDesc, &Volume), (db, b): (&VolumeDesc, &Volume)) -> Result<Volume> {
+    let plain = |d: &VolumeDesc| matches!(d, VolumeDesc::Value(_) | VolumeDesc::Rgb(_));
+    let to_local = match (plain(da), plain(db)) {
+        (true, _) => b.to_local,
+        (false, true) => a.to_local,
+        (false, false) if a.to_local == b.to_local => a.to_local,
+        (false, false) => {
+            return Err(Error::Invalid(
+                "sigma_a and sigma_s must share one transform (the medium's box)".into(),
+            ))
+        }
+    };
+    let values = match (&a.values, &b.values) {
+        (VolumeValues::Constant(x), VolumeValues::Constant(y)) => VolumeValues::Constant(*x + *y),
+        (VolumeValues::Constant(c), VolumeValues::Grid(g))
+        | (VolumeValues::Grid(g), VolumeValues::Constant(c)) => {
+            VolumeValues::Grid(grid_sum(g, |_| *c))
+        }
+        (VolumeValues::Grid(g), VolumeValues::Grid(h)) => {
+            if g.resolution != h.resolution || g.nearest != h.nearest {
+                return Err(Error::Invalid(format!(
+                    "sigma_a's grid ({:?} cells) and sigma_s's ({:?}) must have the same \
+                     resolution and filter",
+                    g.resolution, h.resolution
+                )));
+            }
+            VolumeValues::Grid(grid_sum(g, |i| h.cell(i)))
+        }
+    };
+    Ok(Volume { to_local, values })
+}
+
+/// `g` plus `other` of each cell (by its index, x fastest); one channel where every sum is
+/// grey.
+fn grid_sum(g: &Grid, other: impl Fn(usize) -> Vec3) -> Grid {
+    let cells = g.resolution.iter().product::<usize>();
+    let sums: Vec<Vec3> = (0..cells).map(|i| g.cell(i) + other(i)).collect();
+    let grey = sums.iter().all(|v| v.x == v.y && v.y == v.z);
+    let data = if grey {
+        sums.iter().map(|v| v.x).collect()
+    } else {
+        sums.iter().flat_map(|v| v.to_array()).collect()
+    };
+    Grid {
+        resolution: g.resolution,
+        channels: if grey { 1 } else { 3 },
+        data,
+        nearest: g.nearest,
+    }
 }

@@ -16,6 +16,7 @@ pub mod volume;
 mod tests;
 
 pub use build::build_medium;
+pub use heterogeneous::Scattering;
 pub use volume::Volume;
 
 use crate::math::{Ray, Vec2, Vec3};

@@ -123,14 +123,11 @@ impl Converter<'_> {
                 })
             }
             "heterogeneous" => MediumDesc::Heterogeneous(HeterogeneousDesc {
-                sigma_t: self
-                    .volume_arg(m, "sigma_t", SpectrumUse::Unbounded)?
-                    .unwrap_or(VolumeDesc::Value(1.0)),
-                albedo: self
-                    .volume_arg(m, "albedo", SpectrumUse::Reflectance)?
-                    .unwrap_or(VolumeDesc::Value(0.75)),
+                sigma_t: self.volume_arg(m, "sigma_t", SpectrumUse::Unbounded)?,
+                albedo: self.volume_arg(m, "albedo", SpectrumUse::Reflectance)?,
                 scale,
                 phase,
+                ..HeterogeneousDesc::default()
             }),
             p => {
                 return Err(m.error(format!(
