@@ -169,3 +169,90 @@ fn grid_sum(g: &Grid, other: impl Fn(usize) -> Vec3) -> Grid {
         nearest: g.nearest,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::description::{HeterogeneousDesc, TransformDesc};
+    use crate::shading::chi2::Pcg32;
+
+    fn values(resolution: [usize; 3], channels: usize, rng: &mut Pcg32) -> VolumeDesc {
+        let n = resolution.iter().product::<usize>() * channels;
+        VolumeDesc::Volume(VolumeNode::Values {
+            resolution,
+            channels,
+            values: (0..n).map(|_| rng.next_f32()).collect(),
+            transform: Some(TransformDesc {
+                scale: Some(crate::description::ScaleDesc::Uniform(2.0)),
+                ..TransformDesc::default()
+            }),
+        })
+    }
+
+    /// Absorption and scattering grids: the extinction is the sum of their lookups and the
+    /// scattering its own lookup, both times `scale`, everywhere in the box (cells' centres,
+    /// between them and past the border), and the majorant bounds the extinction.
+    #[test]
+    fn absorption_and_scattering_grids_add_up_to_the_extinction() {
+        let mut rng = Pcg32::new(7, 3);
+        for (a, s) in [
+            (
+                values([3, 2, 4], 3, &mut rng),
+                values([3, 2, 4], 1, &mut rng),
+            ),
+            (
+                VolumeDesc::Rgb([0.2, 0.1, 0.0]),
+                values([2, 5, 3], 3, &mut rng),
+            ),
+            (values([4, 1, 2], 1, &mut rng), VolumeDesc::Value(0.5)),
+        ] {
+            let d = MediumDesc::Heterogeneous(HeterogeneousDesc {
+                sigma_a: Some(a.clone()),
+                sigma_s: Some(s.clone()),
+                scale: 1.5,
+                ..HeterogeneousDesc::default()
+            });
+            d.check().unwrap();
+            let m = build_medium("m", &d, Path::new(".")).unwrap();
+            let (va, vs) = (
+                volume(&a, Path::new(".")).unwrap(),
+                volume(&s, Path::new(".")).unwrap(),
+            );
+            for _ in 0..2000 {
+                let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.4 - 0.2;
+                let (sigma_t, sigma_s) = m.coefficients(p);
+                let want_s = vs.eval(p) * 1.5;
+                let want_t = va.eval(p) * 1.5 + want_s;
+                assert!(
+                    (sigma_t - want_t).abs().max_element() < 1e-5,
+                    "{sigma_t} {want_t}"
+                );
+                assert!(
+                    (sigma_s - want_s).abs().max_element() < 1e-5,
+                    "{sigma_s} {want_s}"
+                );
+                assert!(sigma_t.max_element() <= m.majorant().max_element() * (1.0 + 1e-6));
+            }
+            // The box is the grid's, [0, 2]^3.
+            let ray = crate::math::Ray::new(Vec3::new(-1.0, 1.0, 1.0), Vec3::X);
+            let (t0, t1) = m.range(&ray, 10.0).unwrap();
+            assert!(
+                (t0 - 1.0).abs() < 1e-5 && (t1 - 3.0).abs() < 1e-5,
+                "{t0} {t1}"
+            );
+        }
+        let mut rng = Pcg32::new(1, 1);
+        let d = MediumDesc::Heterogeneous(HeterogeneousDesc {
+            sigma_a: Some(values([2, 2, 2], 1, &mut rng)),
+            sigma_s: Some(values([2, 2, 3], 1, &mut rng)),
+            ..HeterogeneousDesc::default()
+        });
+        let e = build_medium("m", &d, Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("media.m") && e.contains("same resolution"),
+            "{e}"
+        );
+    }
+}
