@@ -35,7 +35,7 @@ def slab(medium):
     return {
         "camera": {"type": "orthographic", "eye": [0, 0, 3], "look_at": [0, 0, 0],
                    "half_width": 0.5, "width": 8, "height": 8},
-        "render": {"integrator": "volpath", "max_depth": -1, "spp": 64},
+        "render": {"integrator": "volpath", "max_depth": -1, "spp": 256},
         "materials": {"boundary": {"type": "null"}},
         "media": {"ink": medium},
         "shape": [
@@ -63,7 +63,7 @@ def test_a_dict_medium_follows_beer_lambert(tmp_path, medium):
     channel: the image mean within 4 standard errors (from the variance AOV). The dict written
     as a JSON file and loaded renders the same image."""
     d = slab(medium)
-    img = appel.load_dict(d).render(spp=64, aovs=("variance",))
+    img = appel.load_dict(d).render(spp=256, aovs=("variance",))
     n = img.rgb.shape[0] * img.rgb.shape[1]
     mean = img.rgb.reshape(-1, 3).astype(np.float64).mean(axis=0)
     error = np.sqrt(img.aovs["variance"].reshape(-1, 3).astype(np.float64).sum(axis=0)) / n
@@ -71,4 +71,4 @@ def test_a_dict_medium_follows_beer_lambert(tmp_path, medium):
     assert (np.abs(mean - expected) <= 4 * error + 1e-4).all(), (mean, error, expected)
     f = tmp_path / "slab.json"
     f.write_text(json.dumps(d))
-    assert np.array_equal(appel.load(f).render(spp=64).rgb, img.rgb)
+    assert np.array_equal(appel.load(f).render(spp=256).rgb, img.rgb)
