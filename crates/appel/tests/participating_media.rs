@@ -282,7 +282,7 @@ fn pbrt_film(medium: &str, seed: u32) -> Film {
 /// exact free flights.
 #[test]
 fn a_constant_rgb_grid_renders_as_the_homogeneous_medium() {
-    let cells = |rgb: &str| vec![rgb; 8].join("  ");
+    let cells = |rgb: &str| [rgb; 8].join("  ");
     let grid = pbrt_film(
         &format!(
             "MakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"integer nx\" 2 \"integer ny\" 2 \

@@ -188,16 +188,17 @@ pub struct HomogeneousDesc {
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct HeterogeneousDesc {
+    // Boxed: four volumes, each with its transform, would make every `MediumDesc` large.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sigma_t: Option<VolumeDesc>,
+    pub sigma_t: Option<Box<VolumeDesc>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub albedo: Option<VolumeDesc>,
+    pub albedo: Option<Box<VolumeDesc>>,
     /// Absorption per scene unit, with `sigma_s` instead of `sigma_t` and `albedo`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sigma_a: Option<VolumeDesc>,
+    pub sigma_a: Option<Box<VolumeDesc>>,
     /// Scattering per scene unit, with `sigma_a`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub sigma_s: Option<VolumeDesc>,
+    pub sigma_s: Option<Box<VolumeDesc>>,
     #[serde(default = "one", skip_serializing_if = "is_one")]
     pub scale: f32,
     #[serde(default, skip_serializing_if = "is_default")]
@@ -237,13 +238,13 @@ impl HeterogeneousDesc {
     pub fn coefficients(&self) -> HeterogeneousCoefficients<'_> {
         const SIGMA_T: VolumeDesc = VolumeDesc::Value(1.0);
         const ALBEDO: VolumeDesc = VolumeDesc::Value(0.75);
-        match (&self.sigma_a, &self.sigma_s) {
+        match (self.sigma_a.as_deref(), self.sigma_s.as_deref()) {
             (Some(sigma_a), Some(sigma_s)) => {
                 HeterogeneousCoefficients::AbsorptionScattering { sigma_a, sigma_s }
             }
             _ => HeterogeneousCoefficients::ExtinctionAlbedo {
-                sigma_t: self.sigma_t.as_ref().unwrap_or(&SIGMA_T),
-                albedo: self.albedo.as_ref().unwrap_or(&ALBEDO),
+                sigma_t: self.sigma_t.as_deref().unwrap_or(&SIGMA_T),
+                albedo: self.albedo.as_deref().unwrap_or(&ALBEDO),
             },
         }
     }
@@ -257,7 +258,7 @@ impl HeterogeneousDesc {
             ("sigma_s", &self.sigma_s),
         ]
         .into_iter()
-        .filter_map(|(k, v)| v.as_ref().map(|v| (k, v)))
+        .filter_map(|(k, v)| v.as_deref().map(|v| (k, v)))
     }
 }
 

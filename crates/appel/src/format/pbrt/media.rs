@@ -126,13 +126,13 @@ impl Converter {
                     }
                 });
                 MediumDesc::Heterogeneous(HeterogeneousDesc {
-                    sigma_t: Some(VolumeDesc::Volume(VolumeNode::Values {
+                    sigma_t: Some(Box::new(VolumeDesc::Volume(VolumeNode::Values {
                         resolution,
                         channels: 3,
                         values,
                         transform: Some(transform),
-                    })),
-                    albedo: Some(VolumeDesc::Rgb(albedo)),
+                    }))),
+                    albedo: Some(Box::new(VolumeDesc::Rgb(albedo))),
                     scale: scale as f32,
                     phase,
                     ..HeterogeneousDesc::default()
@@ -142,9 +142,9 @@ impl Converter {
                 let (resolution, transform) = self.grid_space(d)?;
                 let cells = resolution.iter().product::<usize>();
                 // An absent grid is 1 everywhere (pbrt-v4's `RGBGridMedium`).
-                let grid = |key: &str| -> Result<VolumeDesc> {
+                let grid = |key: &str| -> Result<Box<VolumeDesc>> {
                     let Some(q) = p.array(key, ParamType::Rgb)? else {
-                        return Ok(VolumeDesc::Value(1.0));
+                        return Ok(Box::new(VolumeDesc::Value(1.0)));
                     };
                     let v = q.numbers();
                     if v.len() != 3 * cells {
@@ -161,12 +161,12 @@ impl Converter {
                     if let Some(bad) = v.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
                         return Err(q.error(format!("\"{key}\" must not be negative, got {bad}")));
                     }
-                    Ok(VolumeDesc::Volume(VolumeNode::Values {
+                    Ok(Box::new(VolumeDesc::Volume(VolumeNode::Values {
                         resolution,
                         channels: 3,
                         values: v.iter().map(|&x| x as f32).collect(),
                         transform: Some(transform.clone()),
-                    }))
+                    })))
                 };
                 if p.get("sigma_a").is_none() && p.get("sigma_s").is_none() {
                     return Err(d.loc.error(

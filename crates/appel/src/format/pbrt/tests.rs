@@ -506,7 +506,7 @@ fn media_and_their_interfaces() {
         channels,
         values,
         transform,
-    }) = smoke.sigma_t.as_ref().unwrap()
+    }) = smoke.sigma_t.as_deref().unwrap()
     else {
         panic!("{:?}", smoke.sigma_t)
     };
@@ -516,7 +516,10 @@ fn media_and_their_interfaces() {
     let m = transform.as_ref().unwrap().matrix();
     assert!((m.transform_point3(glam::Vec3::ZERO) - glam::Vec3::splat(-1.0)).length() < 1e-6);
     assert!((m.transform_point3(glam::Vec3::ONE) - glam::Vec3::ONE).length() < 1e-6);
-    assert_eq!(smoke.albedo, Some(VolumeDesc::Rgb([1.0, 1.0, 1.0])));
+    assert_eq!(
+        smoke.albedo.as_deref(),
+        Some(&VolumeDesc::Rgb([1.0, 1.0, 1.0]))
+    );
 }
 
 /// pbrt-v4's `rgbgrid`: absorption and scattering as RGB grids of their own over one box (an
@@ -544,7 +547,7 @@ fn rgb_grid_media() {
         (smoke.scale, &smoke.phase),
         (3.0, &PhaseDesc::Hg(HgDesc { g: -0.3 }))
     );
-    let grid = |v: &Option<VolumeDesc>| match v.as_ref().unwrap() {
+    let grid = |v: &Option<Box<VolumeDesc>>| match v.as_deref().unwrap() {
         VolumeDesc::Volume(VolumeNode::Values {
             resolution,
             channels,
@@ -570,7 +573,7 @@ fn rgb_grid_media() {
     let MediumDesc::Heterogeneous(mist) = &d.media["mist"] else {
         panic!()
     };
-    assert_eq!(mist.sigma_a, Some(VolumeDesc::Value(1.0)));
+    assert_eq!(mist.sigma_a.as_deref(), Some(&VolumeDesc::Value(1.0)));
     assert_eq!(grid(&mist.sigma_s).2, vec![0.5, 0.25, 0.0]);
 
     let medium = |params: &str| {

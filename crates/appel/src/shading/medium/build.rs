@@ -207,8 +207,8 @@ mod tests {
             (values([4, 1, 2], 1, &mut rng), VolumeDesc::Value(0.5)),
         ] {
             let d = MediumDesc::Heterogeneous(HeterogeneousDesc {
-                sigma_a: Some(a.clone()),
-                sigma_s: Some(s.clone()),
+                sigma_a: Some(Box::new(a.clone())),
+                sigma_s: Some(Box::new(s.clone())),
                 scale: 1.5,
                 ..HeterogeneousDesc::default()
             });
@@ -243,8 +243,8 @@ mod tests {
         }
         let mut rng = Pcg32::new(1, 1);
         let d = MediumDesc::Heterogeneous(HeterogeneousDesc {
-            sigma_a: Some(values([2, 2, 2], 1, &mut rng)),
-            sigma_s: Some(values([2, 2, 3], 1, &mut rng)),
+            sigma_a: Some(Box::new(values([2, 2, 2], 1, &mut rng))),
+            sigma_s: Some(Box::new(values([2, 2, 3], 1, &mut rng))),
             ..HeterogeneousDesc::default()
         });
         let e = build_medium("m", &d, Path::new("."))

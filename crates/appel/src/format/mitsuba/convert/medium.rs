@@ -123,8 +123,12 @@ impl Converter<'_> {
                 })
             }
             "heterogeneous" => MediumDesc::Heterogeneous(HeterogeneousDesc {
-                sigma_t: self.volume_arg(m, "sigma_t", SpectrumUse::Unbounded)?,
-                albedo: self.volume_arg(m, "albedo", SpectrumUse::Reflectance)?,
+                sigma_t: self
+                    .volume_arg(m, "sigma_t", SpectrumUse::Unbounded)?
+                    .map(Box::new),
+                albedo: self
+                    .volume_arg(m, "albedo", SpectrumUse::Reflectance)?
+                    .map(Box::new),
                 scale,
                 phase,
                 ..HeterogeneousDesc::default()
