@@ -75,10 +75,11 @@ impl BsdfFlags {
         self.0 & Self::DELTA != 0
     }
 
-    /// Whether there is a lobe that is not a delta (one that light sampling can reach).
+    /// Whether there is a lobe that is not a delta (one that light sampling can reach); the null
+    /// lobe is a delta transmission.
     #[inline]
     pub fn has_smooth(self) -> bool {
-        self.0 & !Self::DELTA != 0
+        self.0 & !(Self::DELTA | Self::NULL.0) != 0
     }
 }
 
