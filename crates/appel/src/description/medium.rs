@@ -178,15 +178,27 @@ pub struct HomogeneousDesc {
     pub phase: PhaseDesc,
 }
 
-/// Mitsuba's `heterogeneous`: extinction and albedo from volumes; the medium is the box of its
-/// `sigma_t` volume (nothing scatters or absorbs outside it). `scale` multiplies the extinction.
+/// Mitsuba's `heterogeneous`: extinction and albedo from volumes (`sigma_t`, default 1, and
+/// `albedo`, default 0.75), or absorption and scattering from volumes (`sigma_a` and `sigma_s`,
+/// pbrt-v4's `rgbgrid`); `scale` multiplies the coefficients. The medium is the box of its
+/// extinction's volume (nothing scatters or absorbs outside it): `sigma_t`'s, or the box that
+/// `sigma_a` and `sigma_s` share (a plain number takes the other's box; two volumes must have
+/// the same transform, and two grids the same resolution and filter, so that their sum, the
+/// extinction, is itself a grid interpolated as theirs are).
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct HeterogeneousDesc {
-    #[serde(default = "default_sigma_t")]
-    pub sigma_t: VolumeDesc,
-    #[serde(default = "default_albedo")]
-    pub albedo: VolumeDesc,
+    // Boxed: four volumes, each with its transform, would make every `MediumDesc` large.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sigma_t: Option<Box<VolumeDesc>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub albedo: Option<Box<VolumeDesc>>,
+    /// Absorption per scene unit, with `sigma_s` instead of `sigma_t` and `albedo`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sigma_a: Option<Box<VolumeDesc>>,
+    /// Scattering per scene unit, with `sigma_a`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sigma_s: Option<Box<VolumeDesc>>,
     #[serde(default = "one", skip_serializing_if = "is_one")]
     pub scale: f32,
     #[serde(default, skip_serializing_if = "is_default")]
@@ -196,11 +208,57 @@ pub struct HeterogeneousDesc {
 impl Default for HeterogeneousDesc {
     fn default() -> Self {
         HeterogeneousDesc {
-            sigma_t: default_sigma_t(),
-            albedo: default_albedo(),
+            sigma_t: None,
+            albedo: None,
+            sigma_a: None,
+            sigma_s: None,
             scale: 1.0,
             phase: PhaseDesc::default(),
         }
+    }
+}
+
+/// A heterogeneous medium's coefficients, in the form they were given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HeterogeneousCoefficients<'a> {
+    /// Extinction and single-scattering albedo.
+    ExtinctionAlbedo {
+        sigma_t: &'a VolumeDesc,
+        albedo: &'a VolumeDesc,
+    },
+    /// Absorption and scattering.
+    AbsorptionScattering {
+        sigma_a: &'a VolumeDesc,
+        sigma_s: &'a VolumeDesc,
+    },
+}
+
+impl HeterogeneousDesc {
+    /// The coefficients with their defaults (`sigma_t` 1, `albedo` 0.75).
+    pub fn coefficients(&self) -> HeterogeneousCoefficients<'_> {
+        const SIGMA_T: VolumeDesc = VolumeDesc::Value(1.0);
+        const ALBEDO: VolumeDesc = VolumeDesc::Value(0.75);
+        match (self.sigma_a.as_deref(), self.sigma_s.as_deref()) {
+            (Some(sigma_a), Some(sigma_s)) => {
+                HeterogeneousCoefficients::AbsorptionScattering { sigma_a, sigma_s }
+            }
+            _ => HeterogeneousCoefficients::ExtinctionAlbedo {
+                sigma_t: self.sigma_t.as_deref().unwrap_or(&SIGMA_T),
+                albedo: self.albedo.as_deref().unwrap_or(&ALBEDO),
+            },
+        }
+    }
+
+    /// The volumes given, with their keys.
+    pub fn volumes(&self) -> impl Iterator<Item = (&'static str, &VolumeDesc)> {
+        [
+            ("sigma_t", &self.sigma_t),
+            ("albedo", &self.albedo),
+            ("sigma_a", &self.sigma_a),
+            ("sigma_s", &self.sigma_s),
+        ]
+        .into_iter()
+        .filter_map(|(k, v)| v.as_deref().map(|v| (k, v)))
     }
 }
 
@@ -228,25 +286,8 @@ impl MediumParams for HomogeneousDesc {
 
     fn check(&self) -> Result<(), ParamError> {
         let pair = (self.sigma_a.is_some(), self.sigma_s.is_some());
-        if pair.0 != pair.1 {
-            let key = if pair.0 { "sigma_s" } else { "sigma_a" };
-            return Err(ParamError::new(
-                key,
-                "give `sigma_a` and `sigma_s` together",
-            ));
-        }
+        pair_check(pair, (self.sigma_t.is_some(), self.albedo.is_some()))?;
         if pair.0 {
-            for (key, given) in [
-                ("sigma_t", self.sigma_t.is_some()),
-                ("albedo", self.albedo.is_some()),
-            ] {
-                if given {
-                    return Err(ParamError::new(
-                        key,
-                        format!("give `sigma_t` and `albedo`, or `sigma_a` and `sigma_s`, not `{key}` with `sigma_a`"),
-                    ));
-                }
-            }
             super::param_error::non_negative("sigma_a", &self.sigma_a.expect("given").rgb())?;
             super::param_error::non_negative("sigma_s", &self.sigma_s.expect("given").rgb())?;
         }
@@ -268,14 +309,58 @@ impl MediumParams for HeterogeneousDesc {
     const NAME: &'static str = "heterogeneous";
 
     fn check(&self) -> Result<(), ParamError> {
-        self.sigma_t.check("sigma_t", None)?;
-        self.albedo.check("albedo", Some(1.0))?;
+        pair_check(
+            (self.sigma_a.is_some(), self.sigma_s.is_some()),
+            (self.sigma_t.is_some(), self.albedo.is_some()),
+        )?;
+        for (key, v) in self.volumes() {
+            v.check(key, (key == "albedo").then_some(1.0))?;
+        }
+        if let (Some(a), Some(s)) = (&self.sigma_a, &self.sigma_s) {
+            if let (Some(ta), Some(ts)) = (a.transform(), s.transform()) {
+                if ta != ts {
+                    return Err(ParamError::new(
+                        "sigma_s",
+                        "`sigma_a` and `sigma_s` must share one transform (the medium's box)",
+                    ));
+                }
+            }
+        }
         scale_check(self.scale)
     }
 
     fn phase(&self) -> &PhaseDesc {
         &self.phase
     }
+}
+
+/// The two forms of a medium's coefficients: `sigma_a` and `sigma_s` together, and then
+/// neither `sigma_t` nor `albedo`.
+fn pair_check(
+    (sigma_a, sigma_s): (bool, bool),
+    (sigma_t, albedo): (bool, bool),
+) -> Result<(), ParamError> {
+    if sigma_a != sigma_s {
+        let key = if sigma_a { "sigma_s" } else { "sigma_a" };
+        return Err(ParamError::new(
+            key,
+            "give `sigma_a` and `sigma_s` together",
+        ));
+    }
+    if sigma_a {
+        for (key, given) in [("sigma_t", sigma_t), ("albedo", albedo)] {
+            if given {
+                return Err(ParamError::new(
+                    key,
+                    format!(
+                        "give `sigma_t` and `albedo`, or `sigma_a` and `sigma_s`, not `{key}` \
+                         with `sigma_a`"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn scale_check(scale: f32) -> Result<(), ParamError> {
@@ -419,9 +504,6 @@ impl Default for PhaseDesc {
     }
 }
 
-fn default_sigma_t() -> VolumeDesc {
-    VolumeDesc::Value(1.0)
-}
 fn default_albedo() -> VolumeDesc {
     VolumeDesc::Value(0.75)
 }

@@ -41,9 +41,9 @@ pub(crate) use integrator_registry::for_each_integrator;
 pub use integrator_registry::{IntegratorName, IntegratorParams, IntegratorTable, NoParams};
 pub use material::*;
 pub use medium::{
-    BlendPhaseDesc, ColorDesc, HeterogeneousDesc, HgDesc, HomogeneousDesc, IsotropicDesc,
-    MediumDesc, PhaseDesc, RayleighDesc, VolumeDesc, VolumeFilter, VolumeNode, MEDIUM_NAMES,
-    PHASE_NAMES,
+    BlendPhaseDesc, ColorDesc, HeterogeneousCoefficients, HeterogeneousDesc, HgDesc,
+    HomogeneousDesc, IsotropicDesc, MediumDesc, PhaseDesc, RayleighDesc, VolumeDesc, VolumeFilter,
+    VolumeNode, MEDIUM_NAMES, PHASE_NAMES,
 };
 pub(crate) use medium_registry::{for_each_medium, for_each_phase};
 

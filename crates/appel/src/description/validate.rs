@@ -179,13 +179,11 @@ fn medium(c: &mut Checker, m: &super::MediumDesc) -> Check {
         return param_failure(c, e);
     }
     let volumes = match m {
-        super::MediumDesc::Homogeneous(h) => vec![("albedo", h.albedo.as_ref())],
-        super::MediumDesc::Heterogeneous(h) => {
-            vec![("sigma_t", Some(&h.sigma_t)), ("albedo", Some(&h.albedo))]
-        }
+        super::MediumDesc::Homogeneous(h) => h.albedo.iter().map(|a| ("albedo", a)).collect(),
+        super::MediumDesc::Heterogeneous(h) => h.volumes().collect::<Vec<_>>(),
     };
     for (k, v) in volumes {
-        if let Some(t) = v.and_then(|v| v.transform()) {
+        if let Some(t) = v.transform() {
             c.at(key(k), |c| c.at(key("transform"), |c| transform(c, t)))?;
         }
     }

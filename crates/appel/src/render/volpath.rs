@@ -479,8 +479,9 @@ fn medium_transmittance<S: Sampler>(
 }
 
 /// The transmittance from `ray`'s origin to distance `t_max` along it, starting in `medium`:
-/// through the media it crosses and the `null` surfaces (and cut-outs) on the way; zero at the
-/// first other surface.
+/// through the media it crosses and the surfaces with a null lobe (the `null` BSDF, a thin
+/// dielectric's straight transmission; cut-outs too) on the way, each by its
+/// `null_transmission`; zero at the first other surface.
 fn transmittance<S: Sampler>(
     scene: &Scene,
     mut ray: Ray,

@@ -1,14 +1,19 @@
-//! `MakeNamedMedium` and `MediumInterface`: pbrt-v4's `homogeneous` and `uniformgrid` media as
-//! `[media.NAME]`, and the media the graphics state gives the shapes that follow and the camera.
+//! `MakeNamedMedium` and `MediumInterface`: pbrt-v4's `homogeneous`, `uniformgrid` and `rgbgrid`
+//! media as `[media.NAME]`, and the media the graphics state gives the shapes that follow and the
+//! camera.
 //!
 //! pbrt-v4 writes a medium as `sigma_a` and `sigma_s` (spectra, default 1) times `scale`, with a
 //! Henyey-Greenstein `g` (positive forward, as Mitsuba's and Appel's). A `uniformgrid` multiplies
 //! the extinction by a grid of `density` values over the box `p0`-`p1` in the medium's space (its
 //! samples at the cells' centres, interpolated trilinearly, pbrt-v4's `SampledGrid`), which
 //! becomes a three-channel grid of `density (sigma_a + sigma_s)` in Appel's terms, with the albedo
-//! `sigma_s / (sigma_a + sigma_s)`.
+//! `sigma_s / (sigma_a + sigma_s)`. An `rgbgrid` gives `sigma_a` and `sigma_s` as grids of RGB
+//! values of their own over the same cells and box (either absent is 1 everywhere), both times
+//! `scale`: a heterogeneous medium in its absorption and scattering form. Emission (`Le`) is an
+//! error: Appel's media absorb and scatter only.
 
 use super::convert::Converter;
+use super::params::ParamType;
 use super::parser::Directive;
 use super::spectrum::{rgb_of, Use};
 use crate::description::{
@@ -18,7 +23,7 @@ use crate::description::{
 use crate::error::Result;
 use glam::{DMat4, DVec3};
 
-const MEDIA: &str = "homogeneous, uniformgrid";
+const MEDIA: &str = "homogeneous, uniformgrid, rgbgrid";
 
 impl Converter {
     /// `MakeNamedMedium "name" "string type" ...`.
@@ -68,8 +73,6 @@ impl Converter {
                 None => Ok([1.0; 3]),
             }
         };
-        let sigma_a = colour("sigma_a")?;
-        let sigma_s = colour("sigma_s")?;
         let scale = p.float_or("scale", 1.0)?;
         if !(scale.is_finite() && scale >= 0.0) {
             let q = p.get("scale").expect("read above");
@@ -83,31 +86,15 @@ impl Converter {
         };
         let desc = match kind.as_str() {
             "homogeneous" => MediumDesc::Homogeneous(HomogeneousDesc {
-                sigma_a: Some(ColorDesc::Rgb(sigma_a)),
-                sigma_s: Some(ColorDesc::Rgb(sigma_s)),
+                sigma_a: Some(ColorDesc::Rgb(colour("sigma_a")?)),
+                sigma_s: Some(ColorDesc::Rgb(colour("sigma_s")?)),
                 scale: scale as f32,
                 phase,
                 ..HomogeneousDesc::default()
             }),
             "uniformgrid" => {
-                if !self.in_world() {
-                    return Err(d.loc.error(
-                        "define a grid medium after WorldBegin (its space is the world's)",
-                    ));
-                }
-                let res = ["nx", "ny", "nz"].map(|k| p.int(k));
-                let mut resolution = [1usize; 3];
-                for (r, (k, v)) in resolution
-                    .iter_mut()
-                    .zip(["nx", "ny", "nz"].iter().zip(res))
-                {
-                    let v = v?.unwrap_or(1);
-                    if !(1..=4096).contains(&v) {
-                        let q = p.get(k).expect("a value out of range was given");
-                        return Err(q.error(format!("\"{k}\" must lie in 1..4096, got {v}")));
-                    }
-                    *r = v as usize;
-                }
+                let (sigma_a, sigma_s) = (colour("sigma_a")?, colour("sigma_s")?);
+                let (resolution, transform) = self.grid_space(d)?;
                 let q = p
                     .get("density")
                     .ok_or_else(|| d.loc.error("a uniformgrid medium needs \"float density\""))?;
@@ -126,14 +113,6 @@ impl Converter {
                 if let Some(bad) = density.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
                     return Err(q.error(format!("densities must not be negative, got {bad}")));
                 }
-                let p0 = DVec3::from(p.point3("p0")?.unwrap_or([0.0; 3]));
-                let p1 = DVec3::from(p.point3("p1")?.unwrap_or([1.0; 3]));
-                if (p1 - p0).min_element() <= 0.0 {
-                    return Err(d.loc.error("the grid's box p0-p1 must have volume"));
-                }
-                let box_to_world = self.to_description(&self.attrs.ctm)
-                    * DMat4::from_translation(p0)
-                    * DMat4::from_scale(p1 - p0);
                 let sigma_t: [f32; 3] = std::array::from_fn(|k| sigma_a[k] + sigma_s[k]);
                 let values = density
                     .iter()
@@ -147,30 +126,66 @@ impl Converter {
                     }
                 });
                 MediumDesc::Heterogeneous(HeterogeneousDesc {
-                    sigma_t: VolumeDesc::Volume(VolumeNode::Values {
+                    sigma_t: Some(Box::new(VolumeDesc::Volume(VolumeNode::Values {
                         resolution,
                         channels: 3,
                         values,
-                        transform: Some(TransformDesc {
-                            matrix: Some(
-                                box_to_world
-                                    .transpose()
-                                    .to_cols_array_2d()
-                                    .map(|r| r.map(|x| x as f32)),
-                            ),
-                            ..TransformDesc::default()
-                        }),
-                    }),
-                    albedo: VolumeDesc::Rgb(albedo),
+                        transform: Some(transform),
+                    }))),
+                    albedo: Some(Box::new(VolumeDesc::Rgb(albedo))),
                     scale: scale as f32,
                     phase,
+                    ..HeterogeneousDesc::default()
+                })
+            }
+            "rgbgrid" => {
+                let (resolution, transform) = self.grid_space(d)?;
+                let cells = resolution.iter().product::<usize>();
+                // An absent grid is 1 everywhere (pbrt-v4's `RGBGridMedium`).
+                let grid = |key: &str| -> Result<Box<VolumeDesc>> {
+                    let Some(q) = p.array(key, ParamType::Rgb)? else {
+                        return Ok(Box::new(VolumeDesc::Value(1.0)));
+                    };
+                    let v = q.numbers();
+                    if v.len() != 3 * cells {
+                        return Err(q.error(format!(
+                            "{} x {} x {} cells need {cells} rgb values ({} numbers) for \
+                             \"{key}\", got {} numbers",
+                            resolution[0],
+                            resolution[1],
+                            resolution[2],
+                            3 * cells,
+                            v.len()
+                        )));
+                    }
+                    if let Some(bad) = v.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
+                        return Err(q.error(format!("\"{key}\" must not be negative, got {bad}")));
+                    }
+                    Ok(Box::new(VolumeDesc::Volume(VolumeNode::Values {
+                        resolution,
+                        channels: 3,
+                        values: v.iter().map(|&x| x as f32).collect(),
+                        transform: Some(transform.clone()),
+                    })))
+                };
+                if p.get("sigma_a").is_none() && p.get("sigma_s").is_none() {
+                    return Err(d.loc.error(
+                        "an rgbgrid medium needs \"rgb sigma_a\" or \"rgb sigma_s\" (or both)",
+                    ));
+                }
+                MediumDesc::Heterogeneous(HeterogeneousDesc {
+                    sigma_a: Some(grid("sigma_a")?),
+                    sigma_s: Some(grid("sigma_s")?),
+                    scale: scale as f32,
+                    phase,
+                    ..HeterogeneousDesc::default()
                 })
             }
             other => {
                 let q = p.get("type").expect("read above");
                 return Err(q.error(format!(
-                    "unsupported medium \"{other}\" (supported: {MEDIA}; rgbgrid, cloud and \
-                     nanovdb are not)"
+                    "unsupported medium \"{other}\" (supported: {MEDIA}; cloud and nanovdb are \
+                     not)"
                 )));
             }
         };
@@ -179,6 +194,44 @@ impl Converter {
         }
         self.media.insert(name, desc);
         Ok(())
+    }
+
+    /// A grid medium's cells (`nx`, `ny`, `nz`) and the transform of the unit cube onto its box
+    /// `p0`-`p1` in the current space.
+    fn grid_space(&self, d: &Directive) -> Result<([usize; 3], TransformDesc)> {
+        if !self.in_world() {
+            return Err(d
+                .loc
+                .error("define a grid medium after WorldBegin (its space is the world's)"));
+        }
+        let p = &d.params;
+        let mut resolution = [1usize; 3];
+        for (r, k) in resolution.iter_mut().zip(["nx", "ny", "nz"]) {
+            let v = p.int(k)?.unwrap_or(1);
+            if !(1..=4096).contains(&v) {
+                let q = p.get(k).expect("a value out of range was given");
+                return Err(q.error(format!("\"{k}\" must lie in 1..4096, got {v}")));
+            }
+            *r = v as usize;
+        }
+        let p0 = DVec3::from(p.point3("p0")?.unwrap_or([0.0; 3]));
+        let p1 = DVec3::from(p.point3("p1")?.unwrap_or([1.0; 3]));
+        if (p1 - p0).min_element() <= 0.0 {
+            return Err(d.loc.error("the grid's box p0-p1 must have volume"));
+        }
+        let box_to_world = self.to_description(&self.attrs.ctm)
+            * DMat4::from_translation(p0)
+            * DMat4::from_scale(p1 - p0);
+        let transform = TransformDesc {
+            matrix: Some(
+                box_to_world
+                    .transpose()
+                    .to_cols_array_2d()
+                    .map(|r| r.map(|x| x as f32)),
+            ),
+            ..TransformDesc::default()
+        };
+        Ok((resolution, transform))
     }
 
     /// `MediumInterface "inside" "outside"` (one name: both): the media of the shapes that

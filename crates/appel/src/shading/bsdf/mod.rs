@@ -54,11 +54,12 @@ impl BsdfFlags {
     pub const DELTA_REFLECTION: BsdfFlags = BsdfFlags(1 << 2);
     pub const DIFFUSE_TRANSMISSION: BsdfFlags = BsdfFlags(1 << 3);
     pub const GLOSSY_TRANSMISSION: BsdfFlags = BsdfFlags(1 << 4);
-    /// A delta transmission; also the straight-through lobe of [`ThinDielectric`] (Mitsuba's
-    /// "null" lobe: the direction is `-wo`, the eta of the sample 1).
+    /// A delta transmission.
     pub const DELTA_TRANSMISSION: BsdfFlags = BsdfFlags(1 << 5);
-    /// Straight through an index-matched boundary (Mitsuba's `null` BSDF): a delta transmission
-    /// that the volumetric path tracer counts as no bounce at all.
+    /// Straight through, undeviated (Mitsuba's null lobe: the `null` BSDF and the transmission of
+    /// [`ThinDielectric`]; the direction is `-wo`, the eta of the sample 1): a delta
+    /// transmission that the volumetric path tracer counts as no bounce at all and that its
+    /// shadow rays cross with [`Bsdf::null_transmission`].
     pub const NULL: BsdfFlags = BsdfFlags(1 << 6 | 1 << 5);
     const DELTA: u8 = Self::DELTA_REFLECTION.0 | Self::DELTA_TRANSMISSION.0;
 
@@ -74,10 +75,11 @@ impl BsdfFlags {
         self.0 & Self::DELTA != 0
     }
 
-    /// Whether there is a lobe that is not a delta (one that light sampling can reach).
+    /// Whether there is a lobe that is not a delta (one that light sampling can reach); the null
+    /// lobe is a delta transmission.
     #[inline]
     pub fn has_smooth(self) -> bool {
-        self.0 & !Self::DELTA != 0
+        self.0 & !(Self::DELTA | Self::NULL.0) != 0
     }
 }
 
@@ -150,7 +152,7 @@ pub trait Bsdf: Copy {
 
     /// The weight of light passing straight through the surface unchanged, without a bounce
     /// (Mitsuba's `eval_null_transmission`), which shadow rays of the volumetric path tracer
-    /// cross: zero but for the `null` BSDF.
+    /// cross: zero but for BSDFs with a [`BsdfFlags::NULL`] lobe.
     #[inline]
     fn null_transmission(&self, wo: Vec3) -> Vec3 {
         let _ = wo;

@@ -472,6 +472,9 @@ fn flags() {
     assert!(g.is_delta() && g.has_smooth());
     assert!(!BsdfFlags::NONE.is_delta() && !BsdfFlags::NONE.has_smooth());
     assert!(!(BsdfFlags::DELTA_TRANSMISSION | BsdfFlags::DELTA_REFLECTION).has_smooth());
+    // The null lobe (the `null` BSDF, a thin dielectric's transmission) is a delta transmission.
+    let null = BsdfFlags::NULL | BsdfFlags::DELTA_REFLECTION;
+    assert!(null.is_delta() && !null.has_smooth() && null.contains(BsdfFlags::DELTA_TRANSMISSION));
     // The per-hit value stays small.
     assert!(
         std::mem::size_of::<AnyBsdf>() <= 80,

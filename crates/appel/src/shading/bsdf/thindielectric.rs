@@ -1,5 +1,10 @@
 //! A thin dielectric sheet (a window pane): the two interfaces' inter-reflections summed, light
-//! passing straight through undeviated, Mitsuba's `thindielectric`.
+//! passing straight through undeviated, Mitsuba's `thindielectric`. As in Mitsuba 3 its
+//! transmission is a null lobe (`BsdfFlags::NULL`): the volumetric path tracer's shadow rays pass
+//! the sheet with [`Bsdf::null_transmission`], and its paths cross it as no bounce (so that a light
+//! seen through the pane by next-event estimation and by a path through it is weighed once, by
+//! the last real vertex's MIS). Every other integrator reads the lobe as the delta transmission
+//! it contains.
 
 use super::fresnel::{fresnel_dielectric, reflect};
 use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
@@ -42,7 +47,7 @@ impl Bsdf for ThinDielectric {
     }
 
     /// Reflection with probability `2R / (1 + R)`, else straight through (`-wo`, eta 1: the two
-    /// refractions cancel, and so does the radiance scaling).
+    /// refractions cancel, and so does the radiance scaling), the null lobe.
     #[inline]
     fn sample(&self, wo: Vec3, u1: f32, _u2: Vec2) -> Option<BsdfSample> {
         let r = self.reflectance(wo.z);
@@ -60,13 +65,21 @@ impl Bsdf for ThinDielectric {
                 weight: self.specular_transmittance,
                 pdf: 1.0 - r,
                 eta: 1.0,
-                lobe: BsdfFlags::DELTA_TRANSMISSION,
+                lobe: BsdfFlags::NULL,
             }
         })
     }
 
     fn flags(&self) -> BsdfFlags {
-        BsdfFlags::DELTA_REFLECTION | BsdfFlags::DELTA_TRANSMISSION
+        BsdfFlags::DELTA_REFLECTION | BsdfFlags::NULL
+    }
+
+    /// What passes straight through: `1 - 2R / (1 + R) = (1 - R) / (1 + R)` (the series
+    /// `(1 - R)² (1 + R² + R⁴ + ...)`), times the transmittance factor; what `sample` passes on
+    /// average.
+    #[inline]
+    fn null_transmission(&self, wo: Vec3) -> Vec3 {
+        self.specular_transmittance * (1.0 - self.reflectance(wo.z))
     }
 }
 

@@ -2,11 +2,14 @@
 //! folder), constants resolved, phase functions built.
 
 use super::volume::{Grid, VolumeValues};
+use super::Scattering;
 use super::{
     BlendPhase, HenyeyGreenstein, Heterogeneous, Homogeneous, Isotropic, Medium, Phase, Rayleigh,
     Volume,
 };
-use crate::description::{MediumDesc, PhaseDesc, VolumeDesc, VolumeFilter, VolumeNode};
+use crate::description::{
+    HeterogeneousCoefficients, MediumDesc, PhaseDesc, VolumeDesc, VolumeFilter, VolumeNode,
+};
 use crate::error::{Error, Result};
 use crate::io::grid_volume::{read_grid_volume, GridVolume};
 use glam::{Mat4, Vec3};
@@ -27,12 +30,29 @@ pub fn build_medium(name: &str, d: &MediumDesc, base_dir: &Path) -> Result<Mediu
                 phase: phase(&h.phase),
             })
         }
-        MediumDesc::Heterogeneous(h) => Medium::Heterogeneous(Heterogeneous::new(
-            volume(&h.sigma_t, base_dir).map_err(at)?,
-            volume(&h.albedo, base_dir).map_err(at)?,
-            h.scale,
-            phase(&h.phase),
-        )),
+        MediumDesc::Heterogeneous(h) => {
+            let (sigma_t, scattering) = match h.coefficients() {
+                HeterogeneousCoefficients::ExtinctionAlbedo { sigma_t, albedo } => (
+                    volume(sigma_t, base_dir).map_err(at)?,
+                    Scattering::Albedo(volume(albedo, base_dir).map_err(at)?),
+                ),
+                HeterogeneousCoefficients::AbsorptionScattering { sigma_a, sigma_s } => {
+                    let scattering = volume(sigma_s, base_dir).map_err(at)?;
+                    let extinction = sum(
+                        (sigma_a, &volume(sigma_a, base_dir).map_err(at)?),
+                        (sigma_s, &scattering),
+                    )
+                    .map_err(at)?;
+                    (extinction, Scattering::Coefficient(scattering))
+                }
+            };
+            Medium::Heterogeneous(Heterogeneous::new(
+                sigma_t,
+                scattering,
+                h.scale,
+                phase(&h.phase),
+            ))
+        }
     })
 }
 
@@ -94,4 +114,145 @@ fn volume(d: &VolumeDesc, base_dir: &Path) -> Result<Volume> {
         )),
     };
     Ok(Volume { to_local, values })
+}
+
+/// The volume of `a + b`: the extinction of absorption and scattering volumes. A plain number
+/// (no volume of its own) takes the other's box; otherwise the two share their transform, and
+/// two grids their resolution and filter, so that the sum's lookup is the sum of their lookups.
+fn sum((da, a): (&VolumeDesc, &Volume), (db, b): (&VolumeDesc, &Volume)) -> Result<Volume> {
+    let plain = |d: &VolumeDesc| matches!(d, VolumeDesc::Value(_) | VolumeDesc::Rgb(_));
+    let to_local = match (plain(da), plain(db)) {
+        (true, _) => b.to_local,
+        (false, true) => a.to_local,
+        (false, false) if a.to_local == b.to_local => a.to_local,
+        (false, false) => {
+            return Err(Error::Invalid(
+                "sigma_a and sigma_s must share one transform (the medium's box)".into(),
+            ))
+        }
+    };
+    let values = match (&a.values, &b.values) {
+        (VolumeValues::Constant(x), VolumeValues::Constant(y)) => VolumeValues::Constant(*x + *y),
+        (VolumeValues::Constant(c), VolumeValues::Grid(g))
+        | (VolumeValues::Grid(g), VolumeValues::Constant(c)) => {
+            VolumeValues::Grid(grid_sum(g, |_| *c))
+        }
+        (VolumeValues::Grid(g), VolumeValues::Grid(h)) => {
+            if g.resolution != h.resolution || g.nearest != h.nearest {
+                return Err(Error::Invalid(format!(
+                    "sigma_a's grid ({:?} cells) and sigma_s's ({:?}) must have the same \
+                     resolution and filter",
+                    g.resolution, h.resolution
+                )));
+            }
+            VolumeValues::Grid(grid_sum(g, |i| h.cell(i)))
+        }
+    };
+    Ok(Volume { to_local, values })
+}
+
+/// `g` plus `other` of each cell (by its index, x fastest); one channel where every sum is
+/// grey.
+fn grid_sum(g: &Grid, other: impl Fn(usize) -> Vec3) -> Grid {
+    let cells = g.resolution.iter().product::<usize>();
+    let sums: Vec<Vec3> = (0..cells).map(|i| g.cell(i) + other(i)).collect();
+    let grey = sums.iter().all(|v| v.x == v.y && v.y == v.z);
+    let data = if grey {
+        sums.iter().map(|v| v.x).collect()
+    } else {
+        sums.iter().flat_map(|v| v.to_array()).collect()
+    };
+    Grid {
+        resolution: g.resolution,
+        channels: if grey { 1 } else { 3 },
+        data,
+        nearest: g.nearest,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::description::{HeterogeneousDesc, TransformDesc};
+    use crate::shading::chi2::Pcg32;
+
+    fn values(resolution: [usize; 3], channels: usize, rng: &mut Pcg32) -> VolumeDesc {
+        let n = resolution.iter().product::<usize>() * channels;
+        VolumeDesc::Volume(VolumeNode::Values {
+            resolution,
+            channels,
+            values: (0..n).map(|_| rng.next_f32()).collect(),
+            transform: Some(TransformDesc {
+                scale: Some(crate::description::ScaleDesc::Uniform(2.0)),
+                ..TransformDesc::default()
+            }),
+        })
+    }
+
+    /// Absorption and scattering grids: the extinction is the sum of their lookups and the
+    /// scattering its own lookup, both times `scale`, everywhere in the box (cells' centres,
+    /// between them and past the border), and the majorant bounds the extinction.
+    #[test]
+    fn absorption_and_scattering_grids_add_up_to_the_extinction() {
+        let mut rng = Pcg32::new(7, 3);
+        for (a, s) in [
+            (
+                values([3, 2, 4], 3, &mut rng),
+                values([3, 2, 4], 1, &mut rng),
+            ),
+            (
+                VolumeDesc::Rgb([0.2, 0.1, 0.0]),
+                values([2, 5, 3], 3, &mut rng),
+            ),
+            (values([4, 1, 2], 1, &mut rng), VolumeDesc::Value(0.5)),
+        ] {
+            let d = MediumDesc::Heterogeneous(HeterogeneousDesc {
+                sigma_a: Some(Box::new(a.clone())),
+                sigma_s: Some(Box::new(s.clone())),
+                scale: 1.5,
+                ..HeterogeneousDesc::default()
+            });
+            d.check().unwrap();
+            let m = build_medium("m", &d, Path::new(".")).unwrap();
+            let (va, vs) = (
+                volume(&a, Path::new(".")).unwrap(),
+                volume(&s, Path::new(".")).unwrap(),
+            );
+            for _ in 0..2000 {
+                let p = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.4 - 0.2;
+                let (sigma_t, sigma_s) = m.coefficients(p);
+                let want_s = vs.eval(p) * 1.5;
+                let want_t = va.eval(p) * 1.5 + want_s;
+                assert!(
+                    (sigma_t - want_t).abs().max_element() < 1e-5,
+                    "{sigma_t} {want_t}"
+                );
+                assert!(
+                    (sigma_s - want_s).abs().max_element() < 1e-5,
+                    "{sigma_s} {want_s}"
+                );
+                assert!(sigma_t.max_element() <= m.majorant().max_element() * (1.0 + 1e-6));
+            }
+            // The box is the grid's, [0, 2]^3.
+            let ray = crate::math::Ray::new(Vec3::new(-1.0, 1.0, 1.0), Vec3::X);
+            let (t0, t1) = m.range(&ray, 10.0).unwrap();
+            assert!(
+                (t0 - 1.0).abs() < 1e-5 && (t1 - 3.0).abs() < 1e-5,
+                "{t0} {t1}"
+            );
+        }
+        let mut rng = Pcg32::new(1, 1);
+        let d = MediumDesc::Heterogeneous(HeterogeneousDesc {
+            sigma_a: Some(Box::new(values([2, 2, 2], 1, &mut rng))),
+            sigma_s: Some(Box::new(values([2, 2, 3], 1, &mut rng))),
+            ..HeterogeneousDesc::default()
+        });
+        let e = build_medium("m", &d, Path::new("."))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("media.m") && e.contains("same resolution"),
+            "{e}"
+        );
+    }
 }

@@ -17,6 +17,7 @@ pub mod volume;
 mod tests;
 
 pub use build::build_medium;
+pub use heterogeneous::Scattering;
 pub use majorant_grid::{MajorantGrid, MajorantSegment, Majorants};
 pub use volume::Volume;
 

@@ -53,6 +53,16 @@ impl Grid {
         }
     }
 
+    /// The value of cell `i` of the data (x fastest).
+    pub fn cell(&self, i: usize) -> Vec3 {
+        let k = i * self.channels;
+        if self.channels == 1 {
+            Vec3::splat(self.data[k])
+        } else {
+            Vec3::new(self.data[k], self.data[k + 1], self.data[k + 2])
+        }
+    }
+
     /// The value at a point of the unit cube (clamped outside it).
     #[inline]
     pub fn eval(&self, p: Vec3) -> Vec3 {

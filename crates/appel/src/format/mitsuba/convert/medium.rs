@@ -125,12 +125,13 @@ impl Converter<'_> {
             "heterogeneous" => MediumDesc::Heterogeneous(HeterogeneousDesc {
                 sigma_t: self
                     .volume_arg(m, "sigma_t", SpectrumUse::Unbounded)?
-                    .unwrap_or(VolumeDesc::Value(1.0)),
+                    .map(Box::new),
                 albedo: self
                     .volume_arg(m, "albedo", SpectrumUse::Reflectance)?
-                    .unwrap_or(VolumeDesc::Value(0.75)),
+                    .map(Box::new),
                 scale,
                 phase,
+                ..HeterogeneousDesc::default()
             }),
             p => {
                 return Err(m.error(format!(

@@ -148,8 +148,8 @@ fn media_convert_with_their_phases_and_interfaces() {
     let MediumDesc::Heterogeneous(h) = &d.media[inner] else {
         panic!("{:?}", d.media)
     };
-    assert_eq!(h.sigma_t.constant(), Some([3.0; 3]));
-    assert_eq!(h.albedo, VolumeDesc::Value(0.5));
+    assert_eq!(h.sigma_t.as_ref().unwrap().constant(), Some([3.0; 3]));
+    assert_eq!(h.albedo.as_deref(), Some(&VolumeDesc::Value(0.5)));
     assert!(matches!(
         d.materials[s.material.as_deref().unwrap()],
         MaterialDesc::Null(_)
