@@ -47,7 +47,7 @@ REF_SIZE = 1024
 
 # name, seconds: the budgets.
 SCENES = [("veach-bidir", 30.0), ("water-caustic", 60.0)]
-INTEGRATORS = ["path", "bdpt"]
+INTEGRATORS = ["path", "bdpt"]  # --integrators adds others (sppm, for water-caustic)
 
 
 def scene_copy(name, tmp):
@@ -160,6 +160,8 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--scenes", default=",".join(n for n, _ in SCENES))
+    ap.add_argument("--integrators", default=",".join(INTEGRATORS),
+                    help="comma-separated: path, bdpt, sppm, ...")
     ap.add_argument("--seconds", type=float, help="one budget for every scene (default: the issue's)")
     ap.add_argument("--png", help="write the first scene's last path and bdpt images and the "
                     "reference side by side to this PNG")
@@ -186,7 +188,7 @@ def main():
                 parts += [(" (through the water)", finite & water),
                           (" (not through the water)", finite & ~water)]
             last = {}
-            for integrator in INTEGRATORS:
+            for integrator in args.integrators.split(","):
                 runs = []
                 for k in range(args.repeat):
                     image = os.path.join(out_dir, f"{name}-{integrator}-{k}.exr")

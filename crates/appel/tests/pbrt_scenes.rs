@@ -191,6 +191,7 @@ fn volumetric_caustic_pbrt_against_tungsten() {
         256,
         5,
         |_| {},
+        none_unresolved,
     );
     let means_agree =
         |c: &Comparison| (0..3).all(|i| (c.mean_ratio[i] - 1.0).abs() <= c.ratio_tolerance[i]);
@@ -211,6 +212,7 @@ fn volumetric_caustic_as_the_file_says_is_not_tungsten_s_image() {
         128,
         7,
         |_| {},
+        none_unresolved,
     );
     assert!(!c.passes(), "{c:?}");
     assert!(c.mean_ratio.iter().all(|&r| r > 1.05), "{c:?}");
