@@ -231,11 +231,20 @@ mod tests {
                     (sigma_s - want_s).abs().max_element() < 1e-5,
                     "{sigma_s} {want_s}"
                 );
-                assert!(sigma_t.max_element() <= m.majorant().max_element() * (1.0 + 1e-6));
+                // The majorant of the segment holding `p`, along a ray through it, bounds it.
+                let ray = crate::math::Ray::new(p - Vec3::X * 5.0, Vec3::X);
+                if let Some(seg) = m.majorants(&ray, 10.0).find(|s| s.t0 <= 5.0 && 5.0 <= s.t1) {
+                    assert!(
+                        (sigma_t - seg.majorant * (1.0 + 1e-6)).max_element() <= 0.0,
+                        "{sigma_t} {:?}",
+                        seg.majorant
+                    );
+                }
             }
-            // The box is the grid's, [0, 2]^3.
+            // The box is the grid's, [0, 2]^3: the segments cover [1, 3] along this ray.
             let ray = crate::math::Ray::new(Vec3::new(-1.0, 1.0, 1.0), Vec3::X);
-            let (t0, t1) = m.range(&ray, 10.0).unwrap();
+            let segments: Vec<_> = m.majorants(&ray, 10.0).collect();
+            let (t0, t1) = (segments[0].t0, segments.last().unwrap().t1);
             assert!(
                 (t0 - 1.0).abs() < 1e-5 && (t1 - 3.0).abs() < 1e-5,
                 "{t0} {t1}"
