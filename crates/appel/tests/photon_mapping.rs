@@ -165,3 +165,24 @@ fn sppm_images_do_not_depend_on_threads() {
     assert_eq!(one.rgb, two.rgb);
     assert_eq!(one.variance, two.variance);
 }
+
+/// With an unlimited depth, a camera path caught between two facing mirrors still ends (by
+/// Russian roulette), and the image is finite.
+#[test]
+fn sppm_ends_paths_between_mirrors() {
+    let toml = "[camera]\neye = [0.0, 0.0, 0.0]\nlook_at = [1.0, 0.0, 0.0]\nwidth = 8\nheight = 8\n\
+                fov = 10\n\n[render]\nintegrator = \"sppm\"\nmax_depth = -1\nspp = 2\n\n\
+                [materials.mirror]\ntype = \"conductor\"\nmaterial = \"none\"\n\n\
+                [[shape]]\ntype = \"plane\"\npoint = [1.0, 0.0, 0.0]\nnormal = [-1.0, 0.0, 0.0]\nmaterial = \"mirror\"\n\
+                [[shape]]\ntype = \"plane\"\npoint = [-1.0, 0.0, 0.0]\nnormal = [1.0, 0.0, 0.0]\nmaterial = \"mirror\"\n\
+                [[light]]\ntype = \"point\"\nposition = [0.0, 0.5, 0.0]\nintensity = 1.0\n";
+    let d = appel::description::description_from_str(
+        toml,
+        appel::description::parse::Syntax::Toml,
+        std::path::Path::new("mirrors.toml"),
+    )
+    .unwrap();
+    let scene = Scene::new(&d, std::path::Path::new(".")).unwrap();
+    let film = render(&scene, &RenderOptions::default()).unwrap().0;
+    assert!(film.rgb.iter().all(|p| p.is_finite()));
+}

@@ -279,10 +279,15 @@ impl Sppm {
         if self.max_depth == 0 {
             return (Vec3::ZERO, None);
         }
-        // No Russian roulette on the camera side: pbrt's SPPM has none either.
+        // No Russian roulette on the camera side, as pbrt's SPPM, unless the depth is unlimited:
+        // then roulette is what ends a path caught between mirrors.
         let tracer = PathTracer {
             max_depth: self.max_depth,
-            rr_depth: u32::MAX,
+            rr_depth: if self.max_depth == u32::MAX {
+                self.rr_depth
+            } else {
+                u32::MAX
+            },
             hide_emitters: self.hide_emitters,
         };
         let mut st = PathState::new(&ray);
