@@ -534,9 +534,10 @@ impl super::Description {
     }
 
     /// A warning when the scene's media will not show: its integrator traces none (it passes
-    /// through `null` surfaces as if the media were vacuum, as Mitsuba 3's `path` does).
+    /// through `null` surfaces as if the media were vacuum, as Mitsuba 3's `path` does). The
+    /// integrator is the one whose image the film holds (`aov`'s nested one).
     pub fn media_ignored_warning(&self) -> Option<String> {
-        let integrator = self.render.integrator;
+        let integrator = self.render.image_integrator();
         (self.uses_media() && !integrator.traces_media()).then(|| {
             let tracers: Vec<&str> = super::IntegratorName::ALL
                 .iter()
