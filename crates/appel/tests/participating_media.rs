@@ -196,7 +196,7 @@ fn a_constant_grid_renders_as_the_homogeneous_medium() {
         "type = \"homogeneous\"\nsigma_t = [3.0, 1.5, 0.75]\nalbedo = 0.8\nphase = { type = \"hg\", g = 0.4 }",
         2,
     ));
-    assert_same_expectation(&grid, &homogeneous);
+    assert_same_image(&grid, &homogeneous, "constant grid against homogeneous");
     let m2 = mean_and_error(&homogeneous).0;
     // And the medium is there: the cube is darker than the same scene without it.
     let empty = film(&cube_scene("type = \"homogeneous\"\nsigma_t = 0.0", 3));
@@ -242,7 +242,7 @@ fn local_majorants_render_as_the_global_majorant() {
     };
     let local = render_with(false, 1);
     let global = render_with(true, 2);
-    assert_same_expectation(&local, &global);
+    assert_same_image(&local, &global, "local against global majorants");
     // And the medium is there: the cube is darker than the same scene without it.
     let empty = film(&cube_scene("type = \"homogeneous\"\nsigma_t = 0.0", 3));
     let (m_local, e_local) = mean_and_error(&local);
@@ -251,31 +251,6 @@ fn local_majorants_render_as_the_global_majorant() {
         m_empty[1] - m_local[1] > 6.0 * e_local[1],
         "{m_empty:?} vs {m_local:?}"
     );
-}
-
-/// Two renders of one scene agree: every pixel by a two-sample z-test, Šidák-corrected over the
-/// pixels, and the image means within 4 standard errors.
-fn assert_same_expectation(a: &Film, b: &Film) {
-    let tests = (3 * a.rgb.len()) as f64;
-    // Two-sided threshold for a 1% overall false-failure rate.
-    let alpha = 1.0 - 0.99f64.powf(1.0 / tests);
-    let z_max = inverse_normal_tail(alpha / 2.0);
-    for (i, (x, y)) in a.rgb.iter().zip(&b.rgb).enumerate() {
-        for k in 0..3 {
-            let var = (a.variance[i][k] + b.variance[i][k]) as f64;
-            let z = (x[k] - y[k]) as f64 / var.max(1e-10).sqrt();
-            assert!(
-                z.abs() < z_max,
-                "pixel {i} channel {k}: {x} vs {y} (z = {z})"
-            );
-        }
-    }
-    let (m1, e1) = mean_and_error(a);
-    let (m2, e2) = mean_and_error(b);
-    for k in 0..3 {
-        let e = (e1[k] * e1[k] + e2[k] * e2[k]).sqrt();
-        assert!((m1[k] - m2[k]).abs() < 4.0 * e, "{m1:?} vs {m2:?} +- {e}");
-    }
 }
 
 /// The pixels of two renders agree by a two-sample z-test (Šidák-corrected over the pixels and

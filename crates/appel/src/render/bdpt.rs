@@ -18,7 +18,8 @@
 //! cameras.
 
 use super::integrator::{
-    camera_ray, centre_aov, CameraRay, FilmSample, Integrator, PixelIntegrator, PixelRow,
+    camera_ray, centre_aov, vertex_limit, CameraRay, FilmSample, Integrator, PixelIntegrator,
+    PixelRow,
 };
 use super::light_pass::{render_light_paths, start_light_path, LightPathTracer};
 use super::path::{
@@ -680,11 +681,7 @@ impl Integrator for Bdpt {
 
     fn from_settings(s: &RenderSettings) -> Result<Self> {
         Ok(Bdpt {
-            max_depth: if s.max_depth < 0 {
-                u32::MAX
-            } else {
-                s.max_depth as u32
-            },
+            max_depth: vertex_limit(s.max_depth),
             rr_depth: s.rr_depth,
             hide_emitters: s.hide_emitters,
         })

@@ -114,6 +114,12 @@ pub struct CameraRay {
     pub centre: bool,
 }
 
+/// The most vertices of a path for the settings' `max_depth` (Mitsuba's meaning): -1, or any
+/// negative value, is unlimited, `u32::MAX`.
+pub fn vertex_limit(max_depth: i32) -> u32 {
+    u32::try_from(max_depth).unwrap_or(u32::MAX)
+}
+
 /// The current sample's film position in pixel `(x, y)` (its first two dimensions), the lens
 /// point (the next two, drawn only by a camera with an aperture) and the camera ray through
 /// them.

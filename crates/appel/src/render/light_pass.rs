@@ -9,7 +9,7 @@
 //! the splats are summed in a fixed order. So the image is bit-identical for any thread count.
 
 use super::integrator::centre_aov;
-use super::path::RR_MAX_PROBABILITY;
+use super::path::{intersect_through_masks, RR_MAX_PROBABILITY};
 use super::render_loop::next_pass;
 use super::sampler::{IndependentSampler, PixelPatternSampler, Sampler, SobolSampler};
 use super::splat_film::{Splat, SplatFilm};
@@ -22,7 +22,7 @@ use crate::scene::Scene;
 use crate::shading::bsdf::BsdfFlags;
 use crate::shading::emitter::EmitterRay;
 use crate::shading::frame::ShadingFrame;
-use crate::shading::material::SurfaceBsdf;
+use crate::shading::material::{Material, SurfaceBsdf, SurfacePoint};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -105,6 +105,25 @@ pub(super) struct LightPath {
     pub depth: u32,
 }
 
+/// A surface a light path reached: its interaction, shading frame and BSDF, and the direction
+/// toward the previous vertex (in the world and in the frame) with its geometric cosine.
+pub(super) struct LightVertex {
+    pub si: SurfaceInteraction,
+    pub frame: ShadingFrame,
+    pub bsdf: SurfaceBsdf,
+    pub w_prev: Vec3,
+    pub prev_local: Vec3,
+    pub cos_g_prev: f32,
+}
+
+impl LightVertex {
+    /// Light arriving on the side the shading normal does not see leaks through it: the path
+    /// ends there.
+    pub fn leaks(&self) -> bool {
+        self.cos_g_prev * self.prev_local.z <= 0.0
+    }
+}
+
 impl LightPath {
     pub fn new(start: &LightPathStart) -> Self {
         LightPath {
@@ -115,25 +134,48 @@ impl LightPath {
         }
     }
 
-    /// BSDF sampling at the surface `si` continues the path: `prev_local` is the direction
-    /// toward the previous vertex in the shading `frame`, `cos_g_prev` its cosine with the
-    /// geometric normal. Then Russian roulette after `rr_depth` vertices. `false` where the path
-    /// ends. Draws three dimensions, and one more for the roulette.
-    #[allow(clippy::too_many_arguments)]
+    /// The surface the path's ray reaches next (through masks), with its BSDF; `None` where the
+    /// ray leaves the scene.
+    pub fn next_vertex<S: Sampler>(
+        &self,
+        scene: &Scene,
+        sampler: &mut S,
+        ctx: &mut TraceContext,
+    ) -> Option<LightVertex> {
+        let h = intersect_through_masks(scene, &self.ray, sampler, ctx)?;
+        let si = h.si;
+        let w_prev = -self.ray.dir;
+        let frame = ShadingFrame::from_normal_tangent(si.ns, si.shading_tangent());
+        let at = SurfacePoint::new(&si, &frame, w_prev, scene.geometry.attributes_at(&h.hit));
+        let bsdf = Material::bsdf(
+            &scene.shading_materials,
+            scene.geometry.material(&h.hit),
+            &at,
+        );
+        Some(LightVertex {
+            si,
+            frame,
+            bsdf,
+            w_prev,
+            prev_local: at.wo,
+            cos_g_prev: si.n.dot(w_prev),
+        })
+    }
+
+    /// BSDF sampling at `v` continues the path, then Russian roulette after `rr_depth`
+    /// vertices. `false` where the path ends. Draws three dimensions, and one more for the
+    /// roulette.
     pub fn scatter<S: Sampler>(
         &mut self,
-        si: &SurfaceInteraction,
-        frame: &ShadingFrame,
-        bsdf: &SurfaceBsdf,
-        prev_local: Vec3,
-        cos_g_prev: f32,
+        v: &LightVertex,
         rr_depth: u32,
         sampler: &mut S,
         ctx: &mut TraceContext,
     ) -> bool {
+        let (si, frame, prev_local) = (&v.si, &v.frame, v.prev_local);
         let u_lobe = sampler.get_1d();
         let u_bsdf = sampler.get_2d();
-        let Some(bs) = bsdf.sample(prev_local, u_lobe, u_bsdf) else {
+        let Some(bs) = v.bsdf.sample(prev_local, u_lobe, u_bsdf) else {
             return false;
         };
         let w_new = frame.to_world(bs.wi);
@@ -144,7 +186,7 @@ impl LightPath {
         // Importance is not scaled by refraction as radiance is: `bs.eta²` undoes the radiance
         // BSDF's 1/eta² (Veach 1997 section 5.2); and the adjoint's shading-normal factor
         // |cos_g(new)| |cos_s(prev)| / (|cos_s(new)| |cos_g(prev)|) (section 5.3.2).
-        let correction = (prev_local.z * cos_g_new / (bs.wi.z * cos_g_prev)).abs();
+        let correction = (prev_local.z * cos_g_new / (bs.wi.z * v.cos_g_prev)).abs();
         self.throughput *= bs.weight * (bs.eta * bs.eta * correction);
         self.eta *= bs.eta;
         if bs.lobe.contains(BsdfFlags::DELTA_TRANSMISSION) || bs.wi.z * prev_local.z < 0.0 {

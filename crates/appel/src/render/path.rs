@@ -5,7 +5,7 @@
 //! estimator stopped after direct light.
 
 use super::integrator::{
-    camera_ray, centre_aov, sample_row_one_by_one, CameraRay, FilmSample, Integrator,
+    camera_ray, centre_aov, sample_row_one_by_one, vertex_limit, CameraRay, FilmSample, Integrator,
     PixelIntegrator, PixelRow, SurfaceHit,
 };
 use super::sampler::Sampler;
@@ -41,11 +41,7 @@ pub struct PathTracer {
 impl PathTracer {
     pub fn new(max_depth: i32, rr_depth: u32, hide_emitters: bool) -> Self {
         Self {
-            max_depth: if max_depth < 0 {
-                u32::MAX
-            } else {
-                max_depth as u32
-            },
+            max_depth: vertex_limit(max_depth),
             rr_depth,
             hide_emitters,
         }

@@ -10,9 +10,11 @@
 //! The batches of light paths, their determinism and the variance of the film are `light_pass`'s
 //! and `splat_film`'s.
 
-use super::integrator::Integrator;
-use super::light_pass::{render_light_paths, start_light_path, LightPath, LightPathTracer};
-use super::path::{intersect_through_masks, visible, visible_along, SHADOW_EPSILON};
+use super::integrator::{vertex_limit, Integrator};
+use super::light_pass::{
+    render_light_paths, start_light_path, LightPath, LightPathTracer, LightVertex,
+};
+use super::path::{visible, visible_along, SHADOW_EPSILON};
 use super::sampler::Sampler;
 use super::splat_film::Splat;
 use super::{Film, RenderOptions, RenderStats, TraceContext};
@@ -20,8 +22,6 @@ use crate::description::CameraKind;
 use crate::error::{Error, Result};
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::scene::{RenderSettings, Scene};
-use crate::shading::frame::ShadingFrame;
-use crate::shading::material::{Material, SurfacePoint};
 
 #[derive(Clone, Copy, Debug)]
 pub struct ParticleTracer {
@@ -37,11 +37,7 @@ impl Integrator for ParticleTracer {
 
     fn from_settings(s: &RenderSettings) -> Result<Self> {
         Ok(ParticleTracer {
-            max_depth: if s.max_depth < 0 {
-                u32::MAX
-            } else {
-                s.max_depth as u32
-            },
+            max_depth: vertex_limit(s.max_depth),
             rr_depth: s.rr_depth,
             hide_emitters: s.hide_emitters,
             samples_per_pass: s.integrator_params.ptracer.samples_per_pass,
@@ -90,25 +86,20 @@ impl LightPathTracer for ParticleTracer {
         };
         let mut path = LightPath::new(&start);
         while path.depth < self.max_depth {
-            let Some(h) = intersect_through_masks(scene, &path.ray, sampler, ctx) else {
+            let Some(v) = path.next_vertex(scene, sampler, ctx) else {
                 break;
             };
-            let si = h.si;
-            // Toward the previous vertex of the light path.
-            let w_prev = -path.ray.dir;
-            let frame = ShadingFrame::from_normal_tangent(si.ns, si.shading_tangent());
-            let at = SurfacePoint::new(&si, &frame, w_prev, scene.geometry.attributes_at(&h.hit));
-            let bsdf = Material::bsdf(
-                &scene.shading_materials,
-                scene.geometry.material(&h.hit),
-                &at,
-            );
-            let prev_local = at.wo;
-            let cos_g_prev = si.n.dot(w_prev);
-            // Light arriving on the side the shading normal does not see leaks through it.
-            if cos_g_prev * prev_local.z <= 0.0 {
+            if v.leaks() {
                 break;
             }
+            let LightVertex {
+                si,
+                frame,
+                bsdf,
+                prev_local,
+                cos_g_prev,
+                ..
+            } = v;
             // Connection to the camera.
             let u_lens = sampler.get_2d();
             if bsdf.flags().has_smooth() {
@@ -133,16 +124,7 @@ impl LightPathTracer for ParticleTracer {
                 }
             }
             // BSDF sampling continues the light path.
-            if !path.scatter(
-                &si,
-                &frame,
-                &bsdf,
-                prev_local,
-                cos_g_prev,
-                self.rr_depth,
-                sampler,
-                ctx,
-            ) {
+            if !path.scatter(&v, self.rr_depth, sampler, ctx) {
                 break;
             }
         }

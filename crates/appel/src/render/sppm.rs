@@ -23,7 +23,7 @@
 //! traced in fixed chunks in parallel into lists of contributions that are added in chunk order.
 //! So the image is bit-identical for any thread count.
 
-use super::integrator::{camera_ray, CameraRay, Integrator};
+use super::integrator::{camera_ray, vertex_limit, CameraRay, Integrator};
 use super::light_pass::{start_light_path, window_aovs, LightPath};
 use super::path::{intersect_through_masks, light_sample_weighted, visible, PathState, PathTracer};
 use super::ptracer::check_camera;
@@ -35,7 +35,7 @@ use crate::math::Vec3;
 use crate::scene::{RenderSettings, Scene};
 use crate::shading::bsdf::BsdfFlags;
 use crate::shading::frame::ShadingFrame;
-use crate::shading::material::{Material, SurfaceBsdf, SurfacePoint};
+use crate::shading::material::SurfaceBsdf;
 use rayon::prelude::*;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
@@ -68,11 +68,7 @@ impl Integrator for Sppm {
     fn from_settings(s: &RenderSettings) -> Result<Self> {
         let p = s.integrator_params.sppm;
         Ok(Sppm {
-            max_depth: if s.max_depth < 0 {
-                u32::MAX
-            } else {
-                s.max_depth as u32
-            },
+            max_depth: vertex_limit(s.max_depth),
             rr_depth: s.rr_depth,
             hide_emitters: s.hide_emitters,
             initial_radius: p.radius,
@@ -385,15 +381,13 @@ impl Sppm {
         // A camera path of `max_depth` vertices gathers at most at its last one but one; the
         // photon's vertices, the light's included, are counted the same way.
         while path.depth < self.max_depth {
-            let Some(h) = intersect_through_masks(scene, &path.ray, sampler, ctx) else {
+            let Some(v) = path.next_vertex(scene, sampler, ctx) else {
                 return;
             };
-            let si = h.si;
-            let w_prev = -path.ray.dir;
             // The light's own point is vertex 1: from vertex 3 on, the light is indirect.
             if path.depth >= 2 {
-                grid.gather(si.p, pixels, |pixel, vp| {
-                    let wi = vp.frame.to_local(w_prev);
+                grid.gather(v.si.p, pixels, |pixel, vp| {
+                    let wi = vp.frame.to_local(v.w_prev);
                     if wi.z == 0.0 {
                         return;
                     }
@@ -406,28 +400,7 @@ impl Sppm {
                     }
                 });
             }
-            let frame = ShadingFrame::from_normal_tangent(si.ns, si.shading_tangent());
-            let at = SurfacePoint::new(&si, &frame, w_prev, scene.geometry.attributes_at(&h.hit));
-            let bsdf = Material::bsdf(
-                &scene.shading_materials,
-                scene.geometry.material(&h.hit),
-                &at,
-            );
-            let prev_local = at.wo;
-            let cos_g_prev = si.n.dot(w_prev);
-            if cos_g_prev * prev_local.z <= 0.0 {
-                return;
-            }
-            if !path.scatter(
-                &si,
-                &frame,
-                &bsdf,
-                prev_local,
-                cos_g_prev,
-                self.rr_depth,
-                sampler,
-                ctx,
-            ) {
+            if v.leaks() || !path.scatter(&v, self.rr_depth, sampler, ctx) {
                 return;
             }
         }
