@@ -13,9 +13,11 @@
 //!
 //! `max_depth` is Mitsuba's (the most segments of a path; -1: unlimited, with Russian roulette
 //! after `rr_depth` vertices, as `path`). Shading normals and refraction are handled as
-//! `ptracer` handles them on the light side (Veach 1997 sections 5.2, 5.3). Not supported (an
-//! error): infinite lights (an environment, the sun, directional lights) and orthographic
-//! cameras.
+//! `ptracer` handles them on the light side (Veach 1997 sections 5.2, 5.3). Lights at infinity
+//! (environments, the sun and sky, directional lights) start their subpaths on a disk of the
+//! scene's bounding sphere's radius and are reached by camera subpaths that leave the scene; their
+//! vertices keep densities by solid angle (pbrt-v4's treatment). Orthographic cameras are an
+//! error.
 
 use super::integrator::{
     camera_ray, centre_aov, vertex_limit, CameraRay, FilmSample, Integrator, PixelIntegrator,
@@ -29,7 +31,7 @@ use super::ptracer::check_camera;
 use super::sampler::Sampler;
 use super::splat_film::Splat;
 use super::{with_sampler, Film, PixelAov, RenderOptions, RenderStats, TraceContext};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::math::{offset_ray_origin, Ray, Vec2, Vec3};
 use crate::scene::{RenderSettings, Scene, NO_EMITTER};
 use crate::shading::frame::ShadingFrame;
@@ -51,6 +53,11 @@ pub(crate) enum Kind {
     Light(u32),
     /// A surface point; its emitter or [`NO_EMITTER`].
     Surface(u32),
+    /// A light at infinity: the first vertex of a light subpath from an infinite emitter (its
+    /// index), or where a camera subpath leaves the scene ([`NO_EMITTER`]: every infinite light
+    /// seen along that direction). Its point only gives directions: the origin of the light's
+    /// ray on the disk it enters through, or one unit past the vertex the camera's ray left.
+    Infinite(u32),
 }
 
 /// A vertex of a subpath.
@@ -78,9 +85,13 @@ pub(crate) struct Vertex {
 impl Vertex {
     fn emitter(&self) -> u32 {
         match self.kind {
-            Kind::Light(e) | Kind::Surface(e) => e,
+            Kind::Light(e) | Kind::Surface(e) | Kind::Infinite(e) => e,
             Kind::Camera => NO_EMITTER,
         }
+    }
+
+    fn is_infinite(&self) -> bool {
+        matches!(self.kind, Kind::Infinite(_))
     }
 
     /// Whether the path can be joined at this vertex (a surface with a smooth lobe, a light, the
@@ -88,13 +99,18 @@ impl Vertex {
     fn connectible(&self) -> bool {
         match self.kind {
             Kind::Surface(_) => self.bsdf.is_some_and(|b| b.flags().has_smooth()),
-            _ => true,
+            Kind::Infinite(_) => false,
+            Kind::Camera | Kind::Light(_) => true,
         }
     }
 }
 
-/// `pdf` by solid angle at `from` toward `to`, as a density by area at `to`.
+/// `pdf` by solid angle at `from` toward `to`, as a density by area at `to`; a light at
+/// infinity keeps densities by solid angle (pbrt-v4's `ConvertDensity`).
 fn to_area(pdf: f32, from: &Vertex, to: &Vertex) -> f32 {
+    if to.is_infinite() {
+        return pdf;
+    }
     let w = to.p - from.p;
     let d2 = w.length_squared();
     if d2.is_nan() || d2 <= 0.0 {
@@ -137,7 +153,7 @@ fn pdf(scene: &Scene, cur: &Vertex, prev: Option<&Vertex>, next: &Vertex) -> f32
     let w = w / len;
     let pdf_dir = match cur.kind {
         Kind::Camera => scene.camera.pdf_direction(cur.p, w),
-        Kind::Light(_) => return pdf_light(scene, cur, next),
+        Kind::Light(_) | Kind::Infinite(_) => return pdf_light(scene, cur, next),
         Kind::Surface(_) => {
             let (Some(bsdf), Some(prev)) = (&cur.bsdf, prev) else {
                 return 0.0;
@@ -150,20 +166,35 @@ fn pdf(scene: &Scene, cur: &Vertex, prev: Option<&Vertex>, next: &Vertex) -> f32
     to_area(pdf_dir, cur, next)
 }
 
-/// The density by area at `next` of a ray leaving the emitting vertex `v`.
+/// The density by area at `next` of a ray leaving the emitting vertex `v`. The rays of a light at
+/// infinity cross a disk of the scene's bounding sphere's radius uniformly (see
+/// `emission::infinite_ray`): their density at `next` is the disk's, projected.
 fn pdf_light(scene: &Scene, v: &Vertex, next: &Vertex) -> f32 {
+    let w = (next.p - v.p).normalize();
+    if v.is_infinite() {
+        let r = scene.emitters.sphere.1;
+        let pdf = 1.0 / (std::f32::consts::PI * r * r);
+        return if next.n == Vec3::ZERO {
+            pdf
+        } else {
+            pdf * next.n.dot(w).abs()
+        };
+    }
     let e = v.emitter();
     if e == NO_EMITTER {
         return 0.0;
     }
-    let w = (next.p - v.p).normalize();
     let pdf_dir = scene.emitters.emitters[e as usize].pdf_ray_dir(v.n, w);
     to_area(pdf_dir, v, next)
 }
 
-/// The density by area with which a light subpath starts at the emitting vertex `v`: the light's
-/// choice times its point's.
-fn pdf_light_origin(scene: &Scene, v: &Vertex) -> f32 {
+/// The density with which a light subpath starts at the emitting vertex `v` joined to `next`:
+/// the light's choice times its point's by area; for a light at infinity, the density by solid
+/// angle of its direction toward `next` (pbrt-v4's `PdfLightOrigin`).
+fn pdf_light_origin(scene: &Scene, v: &Vertex, next: &Vertex) -> f32 {
+    if v.is_infinite() {
+        return infinite_light_density(scene, next.p, (v.p - next.p).normalize());
+    }
     let e = v.emitter();
     if e == NO_EMITTER {
         return 0.0;
@@ -172,8 +203,23 @@ fn pdf_light_origin(scene: &Scene, v: &Vertex) -> f32 {
     em.picker.pmf(e as usize) * em.emitters[e as usize].pdf_position()
 }
 
+/// The density by solid angle of direction `wi` (toward the lights) over all the infinite lights,
+/// each weighted by its choice. A camera subpath that leaves the scene sees them all at once, so
+/// they are weighed as one light (pbrt-v4's `InfiniteLightDensity`); exact for one environment.
+fn infinite_light_density(scene: &Scene, p: Vec3, wi: Vec3) -> f32 {
+    let em = &scene.emitters;
+    em.infinite
+        .iter()
+        .map(|&e| {
+            em.picker.pmf(e as usize)
+                * em.emitters[e as usize].pdf_li(p, wi, Vec3::ZERO, Vec3::ZERO)
+        })
+        .sum()
+}
+
 fn is_delta_light(scene: &Scene, v: &Vertex) -> bool {
-    matches!(v.kind, Kind::Light(e) if scene.emitters.emitters[e as usize].is_delta())
+    matches!(v.kind, Kind::Light(e) | Kind::Infinite(e)
+        if e != NO_EMITTER && scene.emitters.emitters[e as usize].is_delta())
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -214,6 +260,23 @@ fn random_walk<S: Sampler>(
     let mut eta = 1.0f32;
     while path.len() < max {
         let Some(h) = intersect_through_masks(scene, &ray, sampler, ctx) else {
+            // A camera subpath that leaves the scene ends on the infinite lights.
+            if mode == Mode::Radiance && !scene.emitters.infinite.is_empty() {
+                let last = path.last().expect("a subpath starts with its endpoint");
+                path.push(Vertex {
+                    kind: Kind::Infinite(NO_EMITTER),
+                    p: last.p + ray.dir,
+                    p_error: Vec3::ZERO,
+                    n: Vec3::ZERO,
+                    frame: ShadingFrame::from_normal(-ray.dir),
+                    bsdf: None,
+                    uv: Vec2::ZERO,
+                    beta,
+                    delta: false,
+                    pdf_fwd: pdf_dir,
+                    pdf_rev: 0.0,
+                });
+            }
             break;
         };
         let si = h.si;
@@ -354,8 +417,14 @@ fn light_subpath<S: Sampler>(
     }
     let (er, pmf) = (&start.emitted, start.pmf);
     let pdf_origin = pmf * er.pdf_pos;
+    let e = start.emitter as u32;
+    let infinite = scene.emitters.emitters[e as usize].is_infinite();
     path.push(Vertex {
-        kind: Kind::Light(start.emitter as u32),
+        kind: if infinite {
+            Kind::Infinite(e)
+        } else {
+            Kind::Light(e)
+        },
         p: er.origin,
         p_error: er.origin_error,
         n: er.normal,
@@ -384,6 +453,17 @@ fn light_subpath<S: Sampler>(
         path,
         ctx,
     );
+    if infinite {
+        // The first surface's density is the disk's projected onto it, not the direction's over
+        // a distance; the light's own is its direction's (pbrt-v4's `GenerateLightSubpath`).
+        if let Some(v) = path.get_mut(1) {
+            v.pdf_fwd = er.pdf_pos;
+            if v.n != Vec3::ZERO {
+                v.pdf_fwd *= v.n.dot(er.dir).abs();
+            }
+        }
+        path[0].pdf_fwd = infinite_light_density(scene, er.origin, -er.dir);
+    }
 }
 
 /// The subpaths of one sample, kept from one sample to the next so that their vectors are
@@ -443,7 +523,7 @@ fn mis_weight(
     } else if s > 0 {
         pdf(scene, lv(s - 1), s.checked_sub(2).map(lv), cv(t - 1))
     } else {
-        pdf_light_origin(scene, cv(t - 1))
+        pdf_light_origin(scene, cv(t - 1), cv(t - 2))
     };
     let cam_before_rev = if t < 2 {
         0.0
@@ -543,12 +623,25 @@ fn connect<S: Sampler>(
     let toward_eye = (camera[t - 2].p - pt.p).normalize();
     let mut sampled = None;
     let value = if s == 0 {
-        // The camera subpath ends on an emitter.
-        let e = pt.emitter();
-        if e == NO_EMITTER || (t == 2 && integrator.hide_emitters) {
+        // The camera subpath ends on an emitter, or leaves the scene toward the infinite ones.
+        if t == 2 && integrator.hide_emitters {
             return Vec3::ZERO;
         }
-        pt.beta * scene.emitters.emitters[e as usize].radiance_area(pt.frame.n, pt.uv, toward_eye)
+        let emitters = &scene.emitters;
+        if pt.is_infinite() {
+            let le: Vec3 = emitters
+                .infinite
+                .iter()
+                .map(|&e| emitters.emitters[e as usize].radiance_env(-toward_eye))
+                .sum();
+            pt.beta * le
+        } else {
+            let e = pt.emitter();
+            if e == NO_EMITTER {
+                return Vec3::ZERO;
+            }
+            pt.beta * emitters.emitters[e as usize].radiance_area(pt.frame.n, pt.uv, toward_eye)
+        }
     } else if s == 1 {
         // A point of a light chosen afresh (next-event estimation).
         if !pt.connectible() {
@@ -561,6 +654,9 @@ fn connect<S: Sampler>(
             return Vec3::ZERO;
         }
         let em = &emitters.emitters[e];
+        if em.is_infinite() {
+            return connect_to_infinite_light(scene, light, camera, t, (e, pmf), u, sampler, ctx);
+        }
         let (v, radiance) = if em.is_delta() {
             let Some(ls) = em.sample_li(pt.p, u) else {
                 return Vec3::ZERO;
@@ -616,6 +712,44 @@ fn connect<S: Sampler>(
         return value;
     }
     value * mis_weight(scene, light, camera, sampled.as_ref(), (s, t))
+}
+
+/// Strategy `(1, t)` with infinite light `e` chosen with probability `pmf`: a direction toward
+/// it from `u`, unoccluded to infinity; its vertex's density is the direction's over all the
+/// infinite lights, as a camera subpath leaving the scene would be weighed.
+#[allow(clippy::too_many_arguments)]
+fn connect_to_infinite_light<S: Sampler>(
+    scene: &Scene,
+    light: &[Vertex],
+    camera: &[Vertex],
+    t: usize,
+    (e, pmf): (usize, f32),
+    u: Vec2,
+    sampler: &mut S,
+    ctx: &mut TraceContext,
+) -> Vec3 {
+    let pt = &camera[t - 1];
+    let toward_eye = (camera[t - 2].p - pt.p).normalize();
+    let Some(ls) = scene.emitters.emitters[e].sample_li(pt.p, u) else {
+        return Vec3::ZERO;
+    };
+    let wi = ls.wi;
+    let value = pt.beta * scattering(pt, toward_eye, wi) * pt.n.dot(wi).abs() * ls.weight / pmf;
+    if value == Vec3::ZERO
+        || !visible_along(
+            scene,
+            Ray::new(leave(pt, wi), wi),
+            f32::INFINITY,
+            sampler,
+            ctx,
+        )
+    {
+        return Vec3::ZERO;
+    }
+    let mut v = light_vertex(e, pt.p + wi, Vec3::ZERO, Vec2::ZERO, pmf, 1.0);
+    v.kind = Kind::Infinite(e as u32);
+    v.pdf_fwd = pdf_light_origin(scene, &v, pt);
+    value * mis_weight(scene, light, camera, Some(&v), (1, t))
 }
 
 /// The vertex of a light's point chosen with probability `pmf` at density `pdf_pos` by area.
@@ -691,13 +825,6 @@ impl Integrator for Bdpt {
     /// light paths, each given half of a time limit; the film is their sum.
     fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
         check_camera(scene)?;
-        if let Some(e) = scene.emitters.emitters.iter().find(|e| e.is_infinite()) {
-            return Err(Error::Invalid(format!(
-                "the bdpt integrator does not support infinite lights (the scene has a `{}`); \
-                 render it with path",
-                e.name()
-            )));
-        }
         let time_limit = options.time_limit.map(|t| t / 2);
         let progress = options.progress;
         let first_half = |n: u64| {
@@ -881,6 +1008,24 @@ mod tests {
         emitter = { radiance = [4.0, 4.0, 4.0] }\n\
         [[light]]\ntype = \"point\"\nposition = [-1.0, 1.5, 0.5]\nintensity = 2.0\n";
 
+    /// An open scene: a diffuse ground, a rough plastic ball and a glass ball under the sun and
+    /// sky (an infinite light sampled by its image), a directional light and an area light; paths
+    /// leave the scene toward the sky.
+    const OPEN: &str = "[camera]\neye = [0.0, 1.0, 3.0]\nlook_at = [0.0, 0.4, 0.0]\nwidth = 16\n\
+        height = 16\nfov = 60\n[render]\nintegrator = \"bdpt\"\nmax_depth = 8\n\
+        [materials.grey]\ntype = \"diffuse\"\nreflectance = [0.8, 0.8, 0.8]\n\
+        [materials.glass]\ntype = \"dielectric\"\n\
+        [materials.plastic]\ntype = \"roughplastic\"\ndiffuse_reflectance = [0.2, 0.6, 0.3]\n\
+        [[shape]]\ntype = \"rectangle\"\nmaterial = \"grey\"\n\
+        transform = { scale = [3.0, 3.0, 1.0], rotate = { axis = [1.0, 0.0, 0.0], degrees = -90.0 } }\n\
+        [[shape]]\ntype = \"sphere\"\ncenter = [0.4, 0.4, 0.0]\nradius = 0.4\nmaterial = \"plastic\"\n\
+        [[shape]]\ntype = \"sphere\"\ncenter = [-0.5, 0.3, 0.3]\nradius = 0.3\nmaterial = \"glass\"\n\
+        [[shape]]\ntype = \"rectangle\"\n\
+        transform = { scale = [0.3, 0.3, 1.0], rotate = { axis = [1.0, 0.0, 0.0], degrees = 90.0 }, translate = [0.0, 1.5, 0.0] }\n\
+        emitter = { radiance = [4.0, 4.0, 4.0] }\n\
+        [[light]]\ntype = \"sunsky\"\nsun_direction = [0.3, 1.0, 0.4]\nsun_aperture = 5.0\nsky_scale = 0.05\nsun_scale = 0.05\n\
+        [[light]]\ntype = \"directional\"\ndirection = [0.5, -1.0, 0.2]\nintensity = 1.0\n";
+
     /// The camera-side and light-side densities of path `x` (`x[0]` the lens, `x[k-1]` on an
     /// emitter), and the vertex arrays of strategy `(s, t)` built from them: the light subpath
     /// is the path's end reversed, its first vertex the emitter's point as a light's.
@@ -888,7 +1033,11 @@ mod tests {
         let k = x.len();
         let t = k - s;
         let mut as_light: Vec<Vertex> = x.iter().rev().copied().collect();
-        as_light[0].kind = Kind::Light(x[k - 1].emitter());
+        as_light[0].kind = if x[k - 1].is_infinite() {
+            Kind::Infinite(scene.emitters.infinite[0])
+        } else {
+            Kind::Light(x[k - 1].emitter())
+        };
         as_light[0].bsdf = None;
         // Densities as each direction samples: camera side forward along `x`, light side backward.
         let cam_fwd = |i: usize| -> f32 {
@@ -900,7 +1049,7 @@ mod tests {
         };
         let light_fwd = |j: usize| -> f32 {
             match j {
-                0 => pdf_light_origin(scene, &as_light[0]),
+                0 => pdf_light_origin(scene, &as_light[0], &as_light[1]),
                 1 => pdf_light(scene, &as_light[0], &as_light[1]),
                 _ => pdf(
                     scene,
@@ -929,11 +1078,25 @@ mod tests {
 
     /// For paths of every length from 3 to 8 vertices that the camera's random walks find in
     /// the box, the balance heuristic's weights of all strategies that can make the path (every
-    /// split into `s` light and `t >= 1` camera vertices; the point light no path hits is no
-    /// strategy) sum to one.
+    /// split into `s` light and `t >= 1` camera vertices not joined at a delta lobe; the point
+    /// light no path hits is no strategy) sum to one.
     #[test]
     fn mis_weights_of_all_strategies_sum_to_one() {
-        let d = description_from_str(BOX, Syntax::Toml, Path::new("box.toml")).unwrap();
+        weights_sum_to_one(BOX, 8, |_| true);
+    }
+
+    /// The same in the open scene (to 7 vertices), for the paths that end in the sky: the
+    /// strategies of a light at infinity (its subpaths entering through the disk, its directions sampled toward it,
+    /// camera subpaths leaving the scene) weigh each other as the rest do.
+    #[test]
+    fn mis_weights_sum_to_one_for_paths_from_the_sky() {
+        weights_sum_to_one(OPEN, 7, |v| v.is_infinite());
+    }
+
+    /// Checks the paths that end on a vertex `ends` accepts, at least five of each length from
+    /// 3 to `longest` vertices.
+    fn weights_sum_to_one(toml: &str, longest: usize, ends: impl Fn(&Vertex) -> bool) {
+        let d = description_from_str(toml, Syntax::Toml, Path::new("box.toml")).unwrap();
         let scene = Scene::new(&d, Path::new(".")).unwrap();
         let b = Bdpt::from_settings(&scene.settings).unwrap();
         let mut sampler = IndependentSampler::new(3);
@@ -949,12 +1112,18 @@ mod tests {
             camera_subpath(&scene, &b, &ray, &mut sampler, &mut path, &mut ctx);
             for k in 3..=path.len() {
                 let x = &path[..k];
-                if x[k - 1].emitter() == NO_EMITTER {
+                let on_light = x[k - 1].emitter() != NO_EMITTER || x[k - 1].is_infinite();
+                if !on_light || !ends(&x[k - 1]) {
                     continue;
                 }
                 let mut sum = 0.0f64;
                 for s in 0..k {
                     let t = k - s;
+                    // No strategy joins the subpaths at a surface that scatters by a delta lobe
+                    // (the glass ball's).
+                    if s > 0 && (x[t - 1].delta || x[t].delta) {
+                        continue;
+                    }
                     let (light, camera) = split(&scene, x, s);
                     let sampled = match (s, t) {
                         (1, _) => Some(&light[0]),
@@ -972,7 +1141,7 @@ mod tests {
                 checked[k] += 1;
             }
         }
-        for (k, &n) in checked.iter().enumerate().take(9).skip(3) {
+        for (k, &n) in checked.iter().enumerate().take(longest + 1).skip(3) {
             assert!(n >= 5, "only {n} paths of {k} vertices: {checked:?}");
         }
     }
