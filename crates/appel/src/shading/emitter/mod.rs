@@ -113,7 +113,8 @@ pub trait EmitterPlugin: Clone + std::fmt::Debug {
     /// The density by solid angle with which [`Self::sample_ray`] leaves a point of normal
     /// `normal` (zero for lights at a point) along unit `dir`: what bidirectional path tracing's
     /// weights need of a light's rays. The default is that of infinite lights, whose rays
-    /// `Emitter::sample_ray` builds (and which the bidirectional integrator does not take).
+    /// `Emitter::sample_ray` builds: the bidirectional integrator weighs them by `pdf_li` and the
+    /// disk they enter through instead.
     fn pdf_ray_dir(&self, _normal: Vec3, _dir: Vec3) -> f32 {
         const { assert!(Self::INFINITE, "a finite emitter defines pdf_ray_dir") };
         0.0
