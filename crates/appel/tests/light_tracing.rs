@@ -323,3 +323,119 @@ fn bdpt_agrees_with_path_under_the_sky() {
         assert_agree(what, &bd, &path);
     }
 }
+
+/// A diffuse floor, back wall and ball under a large area light: every strategy can sample
+/// every path (no delta lobe, no point light).
+fn diffuse_room(images: &str, spp: u32) -> String {
+    format!(
+        "[camera]\neye = [0.0, 1.0, 3.5]\nlook_at = [0.0, 0.6, 0.0]\nwidth = 20\nheight = 16\n\
+         fov = 45\n\
+         [render]\nintegrator = \"bdpt\"\nmax_depth = 3\nspp = {spp}\n\
+         [render.bdpt]\nstrategy_images = \"{images}\"\n\
+         [materials.white]\ntype = \"diffuse\"\nreflectance = [0.7, 0.7, 0.7]\n\
+         [materials.red]\ntype = \"diffuse\"\nreflectance = [0.7, 0.2, 0.2]\n\n\
+         [[shape]]\ntype = \"rectangle\"\nmaterial = \"white\"\n\
+         transform = {{ scale = [3.0, 3.0, 1.0], rotate = {{ axis = [1.0, 0.0, 0.0], degrees = -90.0 }} }}\n\
+         [[shape]]\ntype = \"rectangle\"\nmaterial = \"white\"\n\
+         transform = {{ scale = [3.0, 2.0, 1.0], translate = [0.0, 2.0, -1.5] }}\n\
+         [[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.5, 0.0]\nradius = 0.5\nmaterial = \"red\"\n\
+         [[shape]]\ntype = \"rectangle\"\n\
+         transform = {{ scale = [1.0, 1.0, 1.0], rotate = {{ axis = [1.0, 0.0, 0.0], degrees = 90.0 }}, translate = [0.0, 2.2, 0.5] }}\n\
+         emitter = {{ radiance = [2.0, 2.0, 2.0] }}\n"
+    )
+}
+
+/// The sum over the channels named `bdpt_dDD_sSS_tTT.C` of `film` whose name passes `pick`,
+/// over all pixels.
+fn strategy_sum(film: &Film, c: &str, pick: impl Fn(&str) -> bool) -> f64 {
+    film.channels
+        .iter()
+        .filter(|ch| ch.name.ends_with(&format!(".{c}")) && pick(&ch.name))
+        .map(|ch| ch.values.iter().map(|&v| v as f64).sum::<f64>())
+        .sum()
+}
+
+/// Weighted strategy images (pbrt's `visualizeweights`): one for each strategy of each depth but
+/// `(1, 1)`, and together they are the image, pixel by pixel. Unweighted ones
+/// (`visualizestrategies`): each strategy of a depth estimates the same light, the depth's
+/// share of the weighted images.
+#[test]
+fn bdpt_strategy_images_are_the_image_split_by_strategy() {
+    let weighted = film(&diffuse_room("weighted", 64));
+    let names: Vec<&str> = weighted.channels.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names.len(), 3 * 8, "{names:?}");
+    assert_eq!(
+        &names[..3],
+        &[
+            "bdpt_d00_s00_t02.R",
+            "bdpt_d00_s00_t02.G",
+            "bdpt_d00_s00_t02.B"
+        ]
+    );
+    assert!(names.contains(&"bdpt_d02_s03_t01.B"), "{names:?}");
+    for (k, rgb) in weighted.rgb.iter().enumerate() {
+        for (c, name) in ["R", "G", "B"].into_iter().enumerate() {
+            let sum: f32 = weighted
+                .channels
+                .iter()
+                .filter(|ch| ch.name.ends_with(name))
+                .map(|ch| ch.values[k])
+                .sum();
+            assert!(
+                (sum - rgb[c]).abs() <= 1e-4 * rgb[c].max(1.0),
+                "pixel {k}: {sum} vs {}",
+                rgb[c]
+            );
+        }
+    }
+    let unweighted = film(&diffuse_room("unweighted", 256));
+    for d in 1..=2 {
+        let depth = format!("bdpt_d{d:02}_");
+        let expected = strategy_sum(&weighted, "G", |n| n.starts_with(&depth));
+        for s in 0..=d + 1 {
+            let name = format!("{depth}s{s:02}_t{:02}", d + 2 - s);
+            let got = strategy_sum(&unweighted, "G", |n| n.starts_with(&name));
+            assert!(
+                (got / expected - 1.0).abs() < 0.05,
+                "{name}: {got} against the depth's {expected}"
+            );
+        }
+    }
+}
+
+/// A window of a render with strategy images has the full render's pixels in every channel.
+#[test]
+fn bdpt_strategy_images_in_a_window_are_the_full_images_cropped() {
+    let s = scene(&diffuse_room("weighted", 4));
+    let full = render(&s, &RenderOptions::default()).unwrap().0;
+    let window = Window {
+        x0: 3,
+        y0: 5,
+        x1: 11,
+        y1: 9,
+    };
+    let part = render(
+        &s,
+        &RenderOptions {
+            window: Some(window),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .0;
+    assert_eq!(part.channels.len(), full.channels.len());
+    for (p, f) in part.channels.iter().zip(&full.channels) {
+        assert_eq!(p.name, f.name);
+        for y in window.y0..window.y1 {
+            for x in window.x0..window.x1 {
+                let i = ((y - window.y0) * (window.x1 - window.x0) + (x - window.x0)) as usize;
+                assert_eq!(
+                    p.values[i],
+                    f.values[full.index(x, y)],
+                    "{} at ({x}, {y})",
+                    p.name
+                );
+            }
+        }
+    }
+}

@@ -29,7 +29,7 @@ macro_rules! for_each_integrator {
             Direct { name: direct, runtime: direct::Direct, params: NoParams, sampler: Independent, monte_carlo: true, media: false },
             VolPath { name: volpath, runtime: volpath::VolPath, params: NoParams, sampler: Independent, monte_carlo: true, media: true },
             Aov { name: aov, runtime: aov::Aov, params: AovParams, sampler: Independent, monte_carlo: true, media: false },
-            Bdpt { name: bdpt, runtime: bdpt::Bdpt, params: NoParams, sampler: Independent, monte_carlo: true, media: false },
+            Bdpt { name: bdpt, runtime: bdpt::Bdpt, params: BdptParams, sampler: Independent, monte_carlo: true, media: false },
             Ptracer { name: ptracer, runtime: ptracer::ParticleTracer, params: PtracerParams, sampler: Independent, monte_carlo: true, media: false },
             Sppm { name: sppm, runtime: sppm::Sppm, params: SppmParams, sampler: Independent, monte_carlo: true, media: false },
         }
@@ -37,7 +37,7 @@ macro_rules! for_each_integrator {
 }
 pub(crate) use for_each_integrator;
 
-use super::integrator::{AovParams, PtracerParams, SppmParams};
+use super::integrator::{AovParams, BdptParams, PtracerParams, SppmParams};
 use super::SamplerName;
 use serde::{Deserialize, Deserializer, Serialize};
 

@@ -36,7 +36,9 @@ pub use emitter::{
 pub(crate) use emitter_registry::for_each_emitter;
 pub use emitter_registry::{is_light, light_names, EMITTER_NAMES};
 pub use from_text::{description_from_str, located, path_string};
-pub use integrator::{AovChannel, AovParams, AovType, PtracerParams, SppmParams};
+pub use integrator::{
+    AovChannel, AovParams, AovType, BdptParams, PtracerParams, SppmParams, StrategyImages,
+};
 pub(crate) use integrator_registry::for_each_integrator;
 pub use integrator_registry::{IntegratorName, IntegratorParams, IntegratorTable, NoParams};
 pub use material::*;

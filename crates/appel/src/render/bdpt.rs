@@ -31,7 +31,8 @@ use super::ptracer::check_camera;
 use super::sampler::Sampler;
 use super::splat_film::Splat;
 use super::{with_sampler, Film, PixelAov, RenderOptions, RenderStats, TraceContext};
-use crate::error::Result;
+use crate::description::StrategyImages;
+use crate::error::{Error, Result};
 use crate::math::{offset_ray_origin, Ray, Vec2, Vec3};
 use crate::scene::{RenderSettings, Scene, NO_EMITTER};
 use crate::shading::frame::ShadingFrame;
@@ -222,12 +223,18 @@ fn is_delta_light(scene: &Scene, v: &Vertex) -> bool {
         if e != NO_EMITTER && scene.emitters.emitters[e as usize].is_delta())
 }
 
+/// The deepest paths whose strategies get images of their own: `d + 2` images a depth `d` past
+/// the first, 64 in all at 10, each 24 bytes a pixel.
+const MAX_DEPTH_OF_STRATEGY_IMAGES: u32 = 10;
+
 #[derive(Clone, Copy, Debug)]
 pub struct Bdpt {
     /// The most segments of a path; `u32::MAX` for unlimited.
     pub max_depth: u32,
     pub rr_depth: u32,
     pub hide_emitters: bool,
+    /// The strategies' images written beside the render, if any.
+    pub strategy_images: Option<StrategyImages>,
 }
 
 impl Bdpt {
@@ -607,7 +614,26 @@ fn unoccluded<S: Sampler>(
     visible_along(scene, Ray::new(origin, dir), t_max, sampler, ctx)
 }
 
-/// Strategy `(s, t)` with `t >= 2`: its weighted contribution to the pixel (pbrt-v4's
+/// What a strategy adds to a pixel: its value and its MIS weight.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Contribution {
+    /// The strategy's estimate of its path's light, before weighting.
+    value: Vec3,
+    weight: f32,
+}
+
+impl Contribution {
+    const NONE: Contribution = Contribution {
+        value: Vec3::ZERO,
+        weight: 0.0,
+    };
+
+    fn weighted(&self) -> Vec3 {
+        self.value * self.weight
+    }
+}
+
+/// Strategy `(s, t)` with `t >= 2`: its contribution to the pixel (pbrt-v4's
 /// `ConnectBDPT`).
 #[allow(clippy::too_many_arguments)]
 fn connect<S: Sampler>(
@@ -618,14 +644,14 @@ fn connect<S: Sampler>(
     (s, t): (usize, usize),
     sampler: &mut S,
     ctx: &mut TraceContext,
-) -> Vec3 {
+) -> Contribution {
     let pt = &camera[t - 1];
     let toward_eye = (camera[t - 2].p - pt.p).normalize();
     let mut sampled = None;
     let value = if s == 0 {
         // The camera subpath ends on an emitter, or leaves the scene toward the infinite ones.
         if t == 2 && integrator.hide_emitters {
-            return Vec3::ZERO;
+            return Contribution::NONE;
         }
         let emitters = &scene.emitters;
         if pt.is_infinite() {
@@ -638,20 +664,20 @@ fn connect<S: Sampler>(
         } else {
             let e = pt.emitter();
             if e == NO_EMITTER {
-                return Vec3::ZERO;
+                return Contribution::NONE;
             }
             pt.beta * emitters.emitters[e as usize].radiance_area(pt.frame.n, pt.uv, toward_eye)
         }
     } else if s == 1 {
         // A point of a light chosen afresh (next-event estimation).
         if !pt.connectible() {
-            return Vec3::ZERO;
+            return Contribution::NONE;
         }
         let emitters = &scene.emitters;
         let (e, pmf) = emitters.picker.pick(sampler.get_1d());
         let u = sampler.get_2d();
         if pmf <= 0.0 {
-            return Vec3::ZERO;
+            return Contribution::NONE;
         }
         let em = &emitters.emitters[e];
         if em.is_infinite() {
@@ -659,7 +685,7 @@ fn connect<S: Sampler>(
         }
         let (v, radiance) = if em.is_delta() {
             let Some(ls) = em.sample_li(pt.p, u) else {
-                return Vec3::ZERO;
+                return Contribution::NONE;
             };
             let p = pt.p + ls.wi * ls.dist;
             let v = light_vertex(e, p, Vec3::ZERO, Vec2::ZERO, pmf, 1.0);
@@ -667,7 +693,7 @@ fn connect<S: Sampler>(
             (v, ls.weight * (ls.dist * ls.dist))
         } else {
             let Some(ps) = em.sample_position(u) else {
-                return Vec3::ZERO;
+                return Contribution::NONE;
             };
             let mut v = light_vertex(e, ps.point, ps.normal, ps.uv, pmf, ps.pdf);
             v.p_error = ps.point_error;
@@ -684,14 +710,14 @@ fn connect<S: Sampler>(
             * radiance
             * v.beta;
         if value == Vec3::ZERO || !unoccluded(scene, pt, v.p, sampler, ctx) {
-            return Vec3::ZERO;
+            return Contribution::NONE;
         }
         sampled = Some(v);
         value
     } else {
         let qs = &light[s - 1];
         if !qs.connectible() || !pt.connectible() {
-            return Vec3::ZERO;
+            return Contribution::NONE;
         }
         let w = qs.p - pt.p;
         let d2 = w.length_squared();
@@ -704,14 +730,17 @@ fn connect<S: Sampler>(
             * scattering(pt, toward_eye, wi)
             * pt.beta;
         if value == Vec3::ZERO || !unoccluded(scene, pt, qs.p, sampler, ctx) {
-            return Vec3::ZERO;
+            return Contribution::NONE;
         }
         value
     };
     if value == Vec3::ZERO {
-        return value;
+        return Contribution::NONE;
     }
-    value * mis_weight(scene, light, camera, sampled.as_ref(), (s, t))
+    Contribution {
+        value,
+        weight: mis_weight(scene, light, camera, sampled.as_ref(), (s, t)),
+    }
 }
 
 /// Strategy `(1, t)` with infinite light `e` chosen with probability `pmf`: a direction toward
@@ -727,11 +756,11 @@ fn connect_to_infinite_light<S: Sampler>(
     u: Vec2,
     sampler: &mut S,
     ctx: &mut TraceContext,
-) -> Vec3 {
+) -> Contribution {
     let pt = &camera[t - 1];
     let toward_eye = (camera[t - 2].p - pt.p).normalize();
     let Some(ls) = scene.emitters.emitters[e].sample_li(pt.p, u) else {
-        return Vec3::ZERO;
+        return Contribution::NONE;
     };
     let wi = ls.wi;
     let value = pt.beta * scattering(pt, toward_eye, wi) * pt.n.dot(wi).abs() * ls.weight / pmf;
@@ -744,12 +773,15 @@ fn connect_to_infinite_light<S: Sampler>(
             ctx,
         )
     {
-        return Vec3::ZERO;
+        return Contribution::NONE;
     }
     let mut v = light_vertex(e, pt.p + wi, Vec3::ZERO, Vec2::ZERO, pmf, 1.0);
     v.kind = Kind::Infinite(e as u32);
     v.pdf_fwd = pdf_light_origin(scene, &v, pt);
-    value * mis_weight(scene, light, camera, Some(&v), (1, t))
+    Contribution {
+        value,
+        weight: mis_weight(scene, light, camera, Some(&v), (1, t)),
+    }
 }
 
 /// The vertex of a light's point chosen with probability `pmf` at density `pdf_pos` by area.
@@ -770,7 +802,7 @@ fn light_vertex(e: usize, p: Vec3, n: Vec3, uv: Vec2, pmf: f32, pdf_pos: f32) ->
 }
 
 /// Strategy `(s, 1)`, `s >= 2`: light subpath vertex `s - 1` (a surface) joined to the camera,
-/// its weighted value and film position. Emitters seen directly are strategy `(0, 2)` alone
+/// its film position and contribution. Emitters seen directly are strategy `(0, 2)` alone
 /// (weight one, as pbrt-v4 counts them: `(1, 1)` is not taken).
 fn connect_to_camera<S: Sampler>(
     scene: &Scene,
@@ -778,7 +810,7 @@ fn connect_to_camera<S: Sampler>(
     s: usize,
     sampler: &mut S,
     ctx: &mut TraceContext,
-) -> Option<Splat> {
+) -> Option<(Vec2, Contribution)> {
     let qs = &light[s - 1];
     let u_lens = sampler.get_2d();
     if !qs.connectible() {
@@ -804,27 +836,40 @@ fn connect_to_camera<S: Sampler>(
         pdf_rev: 0.0,
     };
     let w = mis_weight(scene, light, &[camera_vertex], Some(&camera_vertex), (s, 1));
-    Some(Splat {
-        pos: c.pos,
-        value: value * w,
-    })
+    Some((c.pos, Contribution { value, weight: w }))
 }
 
 impl Integrator for Bdpt {
     const NAME: &'static str = "bdpt";
 
     fn from_settings(s: &RenderSettings) -> Result<Self> {
-        Ok(Bdpt {
+        let b = Bdpt {
             max_depth: vertex_limit(s.max_depth),
             rr_depth: s.rr_depth,
             hide_emitters: s.hide_emitters,
-        })
+            strategy_images: s.integrator_params.bdpt.strategy_images,
+        };
+        if b.strategy_images.is_some() && b.max_depth > MAX_DEPTH_OF_STRATEGY_IMAGES {
+            return Err(Error::Invalid(format!(
+                "[render.bdpt] strategy_images: one image per strategy needs max_depth from 0 to \
+                 {MAX_DEPTH_OF_STRATEGY_IMAGES}, got {}",
+                s.max_depth
+            )));
+        }
+        Ok(b)
     }
 
     /// The strategies with `t >= 2` through the render loop, those with `t = 1` by batches of
     /// light paths, each given half of a time limit; the film is their sum.
     fn render(&self, scene: &Scene, options: &RenderOptions) -> Result<(Film, RenderStats)> {
         check_camera(scene)?;
+        if let Some(images) = self.strategy_images {
+            let tracer = BdptStrategies {
+                bdpt: *self,
+                images,
+            };
+            return render_light_paths(scene, &tracer, 0, options);
+        }
         let time_limit = options.time_limit.map(|t| t / 2);
         let progress = options.progress;
         let first_half = |n: u64| {
@@ -916,7 +961,7 @@ impl BdptCamera {
                     if s + t - 1 > b.max_depth as usize {
                         break;
                     }
-                    radiance += connect(scene, b, light, camera, (s, t), sampler, ctx);
+                    radiance += connect(scene, b, light, camera, (s, t), sampler, ctx).weighted();
                 }
             }
         }
@@ -970,6 +1015,7 @@ impl LightPathTracer for BdptLight {
     fn trace<S: Sampler>(
         &self,
         scene: &Scene,
+        _: (u32, u32),
         sampler: &mut S,
         splats: &mut Vec<Splat>,
         paths: &mut Subpaths,
@@ -979,10 +1025,113 @@ impl LightPathTracer for BdptLight {
         light.clear();
         light_subpath(scene, &self.0, sampler, light, ctx);
         for s in 2..=light.len() {
-            if let Some(splat) = connect_to_camera(scene, light, s, sampler, ctx) {
-                splats.push(splat);
+            if let Some((pos, c)) = connect_to_camera(scene, light, s, sampler, ctx) {
+                splats.push(Splat::new(pos, c.weighted()));
             }
         }
+    }
+}
+
+/// All of [`Bdpt`] with an image of each strategy beside the render (pbrt-v4's
+/// `visualizestrategies` and `visualizeweights`): per sample of each pixel, one camera and one
+/// light subpath joined in every way (pbrt-v4's estimator, the light subpath serving the
+/// strategies of both films), every contribution splatted by `light_pass` onto the image and
+/// onto its strategy's. A pixel's own camera-side contributions are splats at its sample's
+/// position: with W x H samples a batch, their filter-weighted sums over the filter's integral
+/// estimate what the render loop's weighted means do (see `splat_film`).
+pub struct BdptStrategies {
+    bdpt: Bdpt,
+    images: StrategyImages,
+}
+
+impl BdptStrategies {
+    /// The image of strategy `(s, t)` among the film's further images, counted from 1: by depth
+    /// `d = s + t - 2` (pbrt's, from 0 to `max_depth - 1`), then by `s`; `(1, 1)` has none (that
+    /// path is `(0, 2)`'s alone).
+    fn image((s, t): (usize, usize)) -> u16 {
+        let d = s + t - 2;
+        let first = if d == 0 { 0 } else { 1 + (d - 1) * (d + 4) / 2 };
+        (1 + first + s) as u16
+    }
+
+    /// Each strategy `(s, t)` with an image, in image order.
+    fn strategies(max_depth: u32) -> impl Iterator<Item = (usize, usize)> {
+        (0..max_depth as usize).flat_map(|d| {
+            (0..=d + 1)
+                .map(move |s| (s, d + 2 - s))
+                .filter(|&st| st != (1, 1))
+        })
+    }
+
+    /// What the strategy's image shows of a contribution.
+    fn shown(&self, c: &Contribution) -> Vec3 {
+        match self.images {
+            StrategyImages::Weighted => c.weighted(),
+            StrategyImages::Unweighted if c.weight > 0.0 => c.value,
+            StrategyImages::Unweighted => Vec3::ZERO,
+        }
+    }
+}
+
+impl LightPathTracer for BdptStrategies {
+    type Scratch = Subpaths;
+
+    fn trace<S: Sampler>(
+        &self,
+        scene: &Scene,
+        (x, y): (u32, u32),
+        sampler: &mut S,
+        splats: &mut Vec<Splat>,
+        paths: &mut Subpaths,
+        ctx: &mut TraceContext,
+    ) {
+        let b = &self.bdpt;
+        let CameraRay { pos, ray, .. } = camera_ray(scene, x, y, sampler);
+        ctx.rays.camera += 1;
+        let Subpaths { camera, light } = paths;
+        camera.clear();
+        light.clear();
+        if b.max_depth == 0 {
+            return;
+        }
+        camera_subpath(scene, b, &ray, sampler, camera, ctx);
+        light_subpath(scene, b, sampler, light, ctx);
+        let mut splat = |pos: Vec2, c: &Contribution, st: (usize, usize)| {
+            splats.push(Splat::new(pos, c.weighted()));
+            splats.push(Splat {
+                pos,
+                value: self.shown(c),
+                image: Self::image(st),
+            });
+        };
+        for t in 2..=camera.len() {
+            for s in 0..=light.len().max(1) {
+                if s + t - 1 > b.max_depth as usize {
+                    break;
+                }
+                let c = connect(scene, b, light, camera, (s, t), sampler, ctx);
+                if c != Contribution::NONE {
+                    splat(pos, &c, (s, t));
+                }
+            }
+        }
+        for s in 2..=light.len() {
+            if let Some((pos, c)) = connect_to_camera(scene, light, s, sampler, ctx) {
+                splat(pos, &c, (s, 1));
+            }
+        }
+    }
+
+    /// pbrt-v4's names of the images' files, `bdpt_dDD_sSS_tTT`.
+    fn further_images(&self) -> Vec<String> {
+        Self::strategies(self.bdpt.max_depth)
+            .map(|(s, t)| format!("bdpt_d{:02}_s{s:02}_t{t:02}", s + t - 2))
+            .collect()
+    }
+
+    /// A path's dozens of splats (two per strategy) are held until its pass ends.
+    fn paths_per_pass(&self) -> u64 {
+        1 << 16
     }
 }
 
@@ -1091,6 +1240,18 @@ mod tests {
     #[test]
     fn mis_weights_sum_to_one_for_paths_from_the_sky() {
         weights_sum_to_one(OPEN, 7, |v| v.is_infinite());
+    }
+
+    /// The strategies' images are numbered in the order of their names, one for each strategy
+    /// of each depth but `(1, 1)`.
+    #[test]
+    fn strategy_images_follow_their_names() {
+        let all: Vec<_> = BdptStrategies::strategies(10).collect();
+        assert_eq!(all.len(), 64);
+        for (i, &st) in all.iter().enumerate() {
+            assert_eq!(BdptStrategies::image(st) as usize, i + 1, "{st:?}");
+        }
+        assert_eq!(&all[..5], &[(0, 2), (0, 3), (1, 2), (2, 1), (0, 4)]);
     }
 
     /// Checks the paths that end on a vertex `ends` accepts, at least five of each length from

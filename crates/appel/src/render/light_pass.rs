@@ -13,7 +13,7 @@ use super::path::{intersect_through_masks, RR_MAX_PROBABILITY};
 use super::render_loop::next_pass;
 use super::sampler::{IndependentSampler, PixelPatternSampler, Sampler, SobolSampler};
 use super::splat_film::{Splat, SplatFilm};
-use super::{filter, Film, PixelAov, RenderOptions, RenderStats, TraceContext, Window};
+use super::{filter, Channel, Film, PixelAov, RenderOptions, RenderStats, TraceContext, Window};
 use crate::description::SamplerName;
 use crate::error::{Error, Result};
 use crate::geometry::SurfaceInteraction;
@@ -33,7 +33,8 @@ const CHUNK: u32 = 256;
 
 /// The most light paths of one parallel pass, whose splats are all held until the pass ends
 /// (a few tens of bytes a path): without a time limit the render loop's pass is every sample.
-const PATHS_PER_PASS: u64 = 1 << 20;
+/// A batch larger than this goes in several passes.
+pub(super) const PATHS_PER_PASS: u64 = 1 << 20;
 
 /// What traces one light path.
 pub trait LightPathTracer: Sync {
@@ -41,15 +42,28 @@ pub trait LightPathTracer: Sync {
     /// that tracing a path allocates nothing once the chunk is under way.
     type Scratch: Default;
 
-    /// Traces the light path the sampler is started at, pushing its contributions to the film.
+    /// Traces the light path the sampler is started at (at `pixel`, whose stream of numbers it
+    /// draws), pushing its contributions to the film.
     fn trace<S: Sampler>(
         &self,
         scene: &Scene,
+        pixel: (u32, u32),
         sampler: &mut S,
         splats: &mut Vec<Splat>,
         scratch: &mut Self::Scratch,
         ctx: &mut TraceContext,
     );
+
+    /// The names of the film's further images (EXR layers, each written as `NAME.R/G/B`) that
+    /// splats with `image > 0` land on; none by default.
+    fn further_images(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// The most paths traced in one parallel pass, whose splats are held until it ends.
+    fn paths_per_pass(&self) -> u64 {
+        PATHS_PER_PASS
+    }
 }
 
 /// The first segment of a light path: the emitter the scene's light picker chose (with
@@ -260,9 +274,12 @@ fn run<T: LightPathTracer, S: Sampler>(
     let window = options.window.unwrap_or(Window::full(w, h));
     window.check(w, h)?;
     let spp = scene.settings.spp.max(1);
-    let mut film = SplatFilm::new(filter::Filter::new(&scene.settings.filter), w, h);
+    let further = tracer.further_images();
+    let filter = filter::Filter::new(&scene.settings.filter);
+    let mut film = SplatFilm::new(filter, w, h, further.len());
     let paths = w as u64 * h as u64;
     let chunks = paths.div_ceil(CHUNK as u64) as u32;
+    let wave = (tracer.paths_per_pass() / CHUNK as u64).max(1) as u32;
     let mut stats = RenderStats::default();
     let window_pixels = window.pixel_count();
     let done_paths = AtomicU64::new(0);
@@ -272,46 +289,66 @@ fn run<T: LightPathTracer, S: Sampler>(
         if batches_per_pass > 0 {
             count = count.min(batches_per_pass);
         }
-        count = count.min((PATHS_PER_PASS / paths).max(1) as u32);
-        let results: Vec<Option<(Vec<Splat>, TraceContext)>> = (0..count * chunks)
-            .into_par_iter()
-            .map(|item| {
-                if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                    return None;
+        count = count.min((tracer.paths_per_pass() / paths).max(1) as u32);
+        let items = count * chunks;
+        // A batch too large for one pass goes in waves of chunks.
+        let wave_items = if count as u64 * paths <= tracer.paths_per_pass() {
+            items
+        } else {
+            wave
+        };
+        let mut item0 = 0;
+        while item0 < items {
+            let item1 = items.min(item0 + wave_items);
+            let results: Vec<Option<(Vec<Splat>, TraceContext)>> = (item0..item1)
+                .into_par_iter()
+                .map(|item| {
+                    if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                        return None;
+                    }
+                    let (batch, chunk) = (first + item / chunks, item % chunks);
+                    let mut sampler = sampler.clone();
+                    let mut ctx = TraceContext::default();
+                    let mut splats = Vec::new();
+                    let mut scratch = T::Scratch::default();
+                    let k0 = chunk as u64 * CHUNK as u64;
+                    let k1 = (k0 + CHUNK as u64).min(paths);
+                    for k in k0..k1 {
+                        let (x, y) = ((k % w as u64) as u32, (k / w as u64) as u32);
+                        sampler.start_pixel_sample(x, y, batch);
+                        tracer.trace(
+                            scene,
+                            (x, y),
+                            &mut sampler,
+                            &mut splats,
+                            &mut scratch,
+                            &mut ctx,
+                        );
+                    }
+                    ctx.invalid_samples +=
+                        splats.iter().filter(|s| !s.value.is_finite()).count() as u64;
+                    let n = k1 - k0;
+                    let done = done_paths.fetch_add(n, Ordering::Relaxed) + n;
+                    if let Some(progress) = options.progress {
+                        progress(done * window_pixels / (paths * spp as u64).max(1));
+                    }
+                    Some((splats, ctx))
+                })
+                .collect();
+            // In item order: batch by batch, each batch's chunks in order.
+            for (item, result) in (item0..item1).zip(results) {
+                let (splats, ctx) = result.ok_or(Error::Cancelled)?;
+                let chunk = item % chunks;
+                if chunk == 0 {
+                    film.begin_batch();
                 }
-                let (batch, chunk) = (first + item / chunks, item % chunks);
-                let mut sampler = sampler.clone();
-                let mut ctx = TraceContext::default();
-                let mut splats = Vec::new();
-                let mut scratch = T::Scratch::default();
-                let k0 = chunk as u64 * CHUNK as u64;
-                let k1 = (k0 + CHUNK as u64).min(paths);
-                for k in k0..k1 {
-                    let (x, y) = ((k % w as u64) as u32, (k / w as u64) as u32);
-                    sampler.start_pixel_sample(x, y, batch);
-                    tracer.trace(scene, &mut sampler, &mut splats, &mut scratch, &mut ctx);
+                film.add_splats(&splats);
+                stats.merge(&ctx);
+                if chunk == chunks - 1 {
+                    film.end_batch();
                 }
-                ctx.invalid_samples +=
-                    splats.iter().filter(|s| !s.value.is_finite()).count() as u64;
-                let n = k1 - k0;
-                let done = done_paths.fetch_add(n, Ordering::Relaxed) + n;
-                if let Some(progress) = options.progress {
-                    progress(done * window_pixels / (paths * spp as u64).max(1));
-                }
-                Some((splats, ctx))
-            })
-            .collect();
-        let mut results = results.into_iter();
-        for _ in 0..count {
-            let batch: Vec<(Vec<Splat>, TraceContext)> = results
-                .by_ref()
-                .take(chunks as usize)
-                .collect::<Option<_>>()
-                .ok_or(Error::Cancelled)?;
-            for (_, ctx) in &batch {
-                stats.merge(ctx);
             }
-            film.add_batch(batch.iter().flat_map(|(s, _)| s));
+            item0 = item1;
         }
         first += count;
         stats.spp = first;
@@ -327,12 +364,23 @@ fn run<T: LightPathTracer, S: Sampler>(
     } else {
         window_aovs(scene, window, &mut stats)
     };
-    let film = film.film(&[]).crop(window, &aovs);
+    let mut image = film.film(&[]).crop(window, &aovs);
+    for (name, values) in further.iter().zip(film.further_images()) {
+        let values = Film::from_pixels(w, h, values, vec![Vec3::ZERO; paths as usize], &[])
+            .crop(window, &[])
+            .rgb;
+        for (c, channel) in ["R", "G", "B"].into_iter().enumerate() {
+            image.channels.push(Channel {
+                name: format!("{name}.{channel}"),
+                values: values.iter().map(|v| v[c]).collect(),
+            });
+        }
+    }
     if let Some(progress) = options.progress {
         progress(window_pixels);
     }
     stats.time = start.elapsed();
-    Ok((film, stats))
+    Ok((image, stats))
 }
 
 /// What the ray through each pixel centre of the window sees first, in row order.

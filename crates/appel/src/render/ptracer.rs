@@ -69,6 +69,7 @@ impl LightPathTracer for ParticleTracer {
     fn trace<S: Sampler>(
         &self,
         scene: &Scene,
+        _: (u32, u32),
         sampler: &mut S,
         splats: &mut Vec<Splat>,
         _: &mut (),
@@ -117,7 +118,7 @@ impl LightPathTracer for ParticleTracer {
                         if value != Vec3::ZERO {
                             let t_max = c.dist * (1.0 - SHADOW_EPSILON);
                             if visible(scene, &si, c.wi, t_max, sampler, ctx) {
-                                splats.push(Splat { pos: c.pos, value });
+                                splats.push(Splat::new(c.pos, value));
                             }
                         }
                     }
@@ -164,7 +165,7 @@ impl ParticleTracer {
             // From the near plane, as camera rays start.
             let origin = c.lens + s.wi * (camera.near_clip / s.wi.dot(camera.forward));
             if visible_along(scene, Ray::new(origin, s.wi), f32::INFINITY, sampler, ctx) {
-                splats.push(Splat { pos: c.pos, value });
+                splats.push(Splat::new(c.pos, value));
             }
             return;
         }
@@ -186,7 +187,7 @@ impl ParticleTracer {
         let origin = offset_ray_origin(ps.point, ps.point_error, ps.normal, c.wi);
         let t_max = (c.lens - origin).length() * (1.0 - SHADOW_EPSILON);
         if visible_along(scene, Ray::new(origin, c.wi), t_max, sampler, ctx) {
-            splats.push(Splat { pos: c.pos, value });
+            splats.push(Splat::new(c.pos, value));
         }
     }
 }

@@ -22,6 +22,19 @@ use crate::math::{Vec2, Vec3};
 pub struct Splat {
     pub pos: Vec2,
     pub value: Vec3,
+    /// 0: the image; `i > 0`: the film's further image `i - 1` (see [`SplatFilm::new`]).
+    pub image: u16,
+}
+
+impl Splat {
+    /// A contribution to the image.
+    pub fn new(pos: Vec2, value: Vec3) -> Self {
+        Splat {
+            pos,
+            value,
+            image: 0,
+        }
+    }
 }
 
 /// The batches so far, and the image of the batch being added.
@@ -36,6 +49,8 @@ pub struct SplatFilm {
     batch: Vec<[f64; 3]>,
     sums: FilmBlock,
     batches: u32,
+    /// The further images' sums over all batches (means only: they are debugging images).
+    further: Vec<Vec<[f64; 3]>>,
     /// The filter's weights over the columns a splat covers, evaluated once per splat rather
     /// than once per row.
     column_weights: Vec<f32>,
@@ -68,16 +83,19 @@ fn filter_integrals(filter: &Filter, n: u32) -> Vec<f64> {
 }
 
 impl SplatFilm {
-    pub fn new(filter: Filter, width: u32, height: u32) -> Self {
+    /// A film of the image and of `further` images beside it.
+    pub fn new(filter: Filter, width: u32, height: u32, further: usize) -> Self {
+        let pixels = width as usize * height as usize;
         SplatFilm {
             filter,
             width,
             height,
             columns: filter_integrals(&filter, width),
             rows: filter_integrals(&filter, height),
-            batch: vec![[0.0; 3]; width as usize * height as usize],
+            batch: vec![[0.0; 3]; pixels],
             sums: FilmBlock::new(0, 0, width, height),
             batches: 0,
+            further: vec![vec![[0.0; 3]; pixels]; further],
             column_weights: Vec::new(),
         }
     }
@@ -89,11 +107,27 @@ impl SplatFilm {
 
     /// Adds one batch: its splats in the order given (a fixed order, so that the sums do not
     /// depend on which thread traced which path).
+    #[cfg(test)]
     pub fn add_batch<'a>(&mut self, splats: impl IntoIterator<Item = &'a Splat>) {
+        self.begin_batch();
+        self.add_splats(splats);
+        self.end_batch();
+    }
+
+    /// Starts a batch, whose splats [`Self::add_splats`] adds in as many parts as it takes.
+    pub fn begin_batch(&mut self) {
         self.batch.fill([0.0; 3]);
+    }
+
+    /// Adds splats of the batch under way, in the order given.
+    pub fn add_splats<'a>(&mut self, splats: impl IntoIterator<Item = &'a Splat>) {
         for s in splats {
             self.splat(s);
         }
+    }
+
+    /// Ends the batch under way: its image is one more sample of each pixel.
+    pub fn end_batch(&mut self) {
         for (sums, v) in self.sums.sums.iter_mut().zip(&self.batch) {
             sums.add(Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32), 1.0);
         }
@@ -125,7 +159,11 @@ impl SplatFilm {
                     continue;
                 }
                 let wgt = wy * wx as f64 / self.columns[i as usize];
-                let px = &mut self.batch[(j * w + i) as usize];
+                let image = match s.image {
+                    0 => &mut self.batch,
+                    k => &mut self.further[k as usize - 1],
+                };
+                let px = &mut image[(j * w + i) as usize];
                 px[0] += wgt * v.x;
                 px[1] += wgt * v.y;
                 px[2] += wgt * v.z;
@@ -136,6 +174,20 @@ impl SplatFilm {
     /// The mean of the batches and its variance, with `aovs` (in row order, or empty).
     pub fn film(&self, aovs: &[PixelAov]) -> Film {
         Film::from_sums(&self.sums, aovs)
+    }
+
+    /// The mean of the batches of each further image, in row order.
+    pub fn further_images(&self) -> Vec<Vec<Vec3>> {
+        let n = self.batches.max(1) as f64;
+        self.further
+            .iter()
+            .map(|image| {
+                image
+                    .iter()
+                    .map(|v| Vec3::new((v[0] / n) as f32, (v[1] / n) as f32, (v[2] / n) as f32))
+                    .collect()
+            })
+            .collect()
     }
 }
 
@@ -155,18 +207,12 @@ mod tests {
             Filter::Tent { radius: 1.0 },
             Filter::Gaussian { stddev: 0.5 },
         ] {
-            let mut f = SplatFilm::new(filter, 12, 10);
-            let p = Splat {
-                pos: Vec2::new(5.3, 4.8),
-                value: Vec3::new(1.0, 2.0, 3.0),
-            };
+            let mut f = SplatFilm::new(filter, 12, 10, 0);
+            let p = Splat::new(Vec2::new(5.3, 4.8), Vec3::new(1.0, 2.0, 3.0));
             f.add_batch([&p]);
             let total: f64 = f.batch.iter().map(|v| v[0]).sum();
             assert!((total - 1.0).abs() < 1e-4, "{filter:?}: {total}");
-            let edge = Splat {
-                pos: Vec2::new(0.1, 4.8),
-                value: Vec3::ONE,
-            };
+            let edge = Splat::new(Vec2::new(0.1, 4.8), Vec3::ONE);
             f.add_batch([&edge]);
             let expected = filter.eval(0.1 - 0.5) as f64 * filter.eval(4.8 - 4.5) as f64
                 / (f.columns[0] * f.rows[4]);
@@ -184,12 +230,9 @@ mod tests {
     /// The film is the mean of the batch images and its variance their spread over the count.
     #[test]
     fn batches_are_the_samples_of_each_pixel() {
-        let mut f = SplatFilm::new(Filter::Box { radius: 0.5 }, 2, 1);
+        let mut f = SplatFilm::new(Filter::Box { radius: 0.5 }, 2, 1, 0);
         for v in [1.0f32, 2.0, 3.0, 6.0] {
-            f.add_batch([&Splat {
-                pos: Vec2::new(0.5, 0.5),
-                value: Vec3::splat(v),
-            }]);
+            f.add_batch([&Splat::new(Vec2::new(0.5, 0.5), Vec3::splat(v))]);
         }
         let film = f.film(&[]);
         assert_eq!(film.rgb[0], Vec3::splat(3.0));

@@ -2,9 +2,11 @@
 //! each; the registry (`integrator_registry.rs`) names them.
 
 mod aov;
+mod bdpt;
 mod ptracer;
 mod sppm;
 
 pub use aov::{AovChannel, AovParams, AovType};
+pub use bdpt::{BdptParams, StrategyImages};
 pub use ptracer::PtracerParams;
 pub use sppm::SppmParams;

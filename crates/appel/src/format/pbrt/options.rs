@@ -4,8 +4,8 @@
 use super::parser::Directive;
 use super::tokenizer::Loc;
 use crate::description::{
-    CameraDesc, CameraKind, FilterDesc, FovAxis, IntegratorName, RenderDesc, SamplerName,
-    SppmParams,
+    BdptParams, CameraDesc, CameraKind, FilterDesc, FovAxis, IntegratorName, RenderDesc,
+    SamplerName, SppmParams, StrategyImages,
 };
 use crate::error::Result;
 use glam::{DMat4, DVec3};
@@ -26,6 +26,8 @@ pub(super) struct SceneOptions {
     integrator: Option<IntegratorName>,
     /// `sppm`'s `radius` and `photonsperiteration`.
     sppm: Option<SppmParams>,
+    /// `bdpt`'s `visualizestrategies` and `visualizeweights`.
+    bdpt: Option<BdptParams>,
 }
 
 struct Camera {
@@ -223,7 +225,29 @@ impl SceneOptions {
         self.volumetric = Some(matches!(d.strings[0].as_str(), "volpath" | "simplevolpath"));
         match d.strings[0].as_str() {
             "path" | "volpath" => {}
-            "bdpt" => self.integrator = Some(IntegratorName::Bdpt),
+            "bdpt" => {
+                self.integrator = Some(IntegratorName::Bdpt);
+                // The images of each strategy, which pbrt writes as files beside the render and
+                // Appel as channels of its EXR.
+                let p = &d.params;
+                let mut strategy_images = None;
+                for (name, images) in [
+                    ("visualizestrategies", StrategyImages::Unweighted),
+                    ("visualizeweights", StrategyImages::Weighted),
+                ] {
+                    if p.bool_or(name, false)? {
+                        if strategy_images.is_some() {
+                            let at = &p.get(name).expect("read").loc;
+                            return Err(at.error(
+                                "\"visualizestrategies\" and \"visualizeweights\" are both set: \
+                                 Appel writes one kind of strategy image, choose one",
+                            ));
+                        }
+                        strategy_images = Some(images);
+                    }
+                }
+                self.bdpt = Some(BdptParams { strategy_images });
+            }
             "lightpath" => self.integrator = Some(IntegratorName::Ptracer),
             "sppm" => {
                 self.integrator = Some(IntegratorName::Sppm);
@@ -280,13 +304,6 @@ impl SceneOptions {
         if p.bool_or("regularize", false)? {
             let at = &p.get("regularize").expect("read").loc;
             return Err(at.error("\"regularize\" (a biased roughening) is not supported"));
-        }
-        // bdpt's images of each strategy, written beside the render by pbrt.
-        for name in ["visualizestrategies", "visualizeweights"] {
-            if p.bool_or(name, false)? {
-                let at = &p.get(name).expect("read").loc;
-                return Err(at.error(format!("\"{name}\" is not supported")));
-            }
         }
         Ok(())
     }
@@ -368,6 +385,7 @@ impl SceneOptions {
             seed,
             filter: self.filter.unwrap_or(FilterDesc::Gaussian { stddev: 0.5 }),
             sppm: self.sppm,
+            bdpt: self.bdpt,
             ..RenderDesc::default()
         };
         Ok((camera, render))

@@ -90,10 +90,29 @@ fn other_estimators_of_the_same_light_are_path_traced() {
         assert_eq!(s.description.render.max_depth, 8);
         assert!(s.warnings.is_empty(), "{:?}", s.warnings);
     }
+    let images = |params: &str| {
+        load(&format!(
+            "Integrator \"bdpt\" {params}\n{CAMERA}WorldBegin\n"
+        ))
+        .unwrap()
+        .description
+        .render
+        .bdpt
+        .and_then(|b| b.strategy_images)
+    };
+    assert_eq!(images(""), None);
+    assert_eq!(
+        images("\"bool visualizeweights\" true"),
+        Some(crate::description::StrategyImages::Weighted)
+    );
+    assert_eq!(
+        images("\"bool visualizestrategies\" true"),
+        Some(crate::description::StrategyImages::Unweighted)
+    );
     let e = err(&format!(
-        "Integrator \"bdpt\" \"bool visualizeweights\" true\n{CAMERA}WorldBegin\n"
+        "Integrator \"bdpt\" \"bool visualizestrategies\" true\n  \"bool visualizeweights\" true\n{CAMERA}WorldBegin\n"
     ));
-    assert!(e.contains("\"visualizeweights\" is not supported"), "{e}");
+    assert!(e.contains(":2:") && e.contains("choose one"), "{e}");
     let s = load(&format!(
         "Integrator \"sppm\" \"integer maxdepth\" 7 \"float radius\" 0.01 \
          \"integer photonsperiteration\" 5000 \"integer seed\" 3\n{CAMERA}WorldBegin\n"

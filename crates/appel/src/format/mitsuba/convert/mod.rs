@@ -359,11 +359,23 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
             r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
         }
-        // Appel's own: Mitsuba 3 has no bidirectional path tracer; its keys are `path`'s.
+        // Appel's own: Mitsuba 3 has no bidirectional path tracer; its keys are `path`'s, and
+        // `strategy_images` (`unweighted` or `weighted`) as in `[render.bdpt]`.
         "bdpt" => {
             r.integrator = IntegratorName::Bdpt;
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
             r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
+            let strategy_images = match i.string("strategy_images")? {
+                None => None,
+                Some("unweighted") => Some(crate::description::StrategyImages::Unweighted),
+                Some("weighted") => Some(crate::description::StrategyImages::Weighted),
+                Some(other) => {
+                    return Err(i.error(format!(
+                        "strategy_images must be \"unweighted\" or \"weighted\", got \"{other}\""
+                    )))
+                }
+            };
+            r.bdpt = Some(crate::description::BdptParams { strategy_images });
         }
         // Appel's own, as `bdpt`: `path`'s keys and pbrt-v4's `sppm` parameters.
         "sppm" => {

@@ -798,3 +798,24 @@ fn thinlens_sensors_have_an_aperture_and_a_plane_in_focus() {
         assert!(e.starts_with(expected), "expected {expected}\n     got {e}");
     }
 }
+
+/// Appel's own `bdpt` plugin takes `strategy_images`, `unweighted` or `weighted`; another value
+/// is an error at the integrator's line.
+#[test]
+fn bdpt_strategy_images_convert() {
+    let scene = |body: &str| format!("<scene version=\"3.0.0\">{CAMERA}\n{body}\n</scene>");
+    let d = convert_ok(&scene(
+        "<integrator type=\"bdpt\">\n  <string name=\"strategy_images\" value=\"weighted\"/>\n</integrator>",
+    ));
+    assert_eq!(
+        d.render.bdpt.and_then(|b| b.strategy_images),
+        Some(crate::description::StrategyImages::Weighted)
+    );
+    let e = err(&scene(
+        "<integrator type=\"bdpt\">\n  <string name=\"strategy_images\" value=\"all\"/>\n</integrator>",
+    ));
+    assert!(
+        e.starts_with("scene.xml:2:1:") && e.contains("\"unweighted\" or \"weighted\""),
+        "{e}"
+    );
+}
