@@ -402,3 +402,84 @@ pub(super) fn window_aovs(scene: &Scene, window: Window, stats: &mut RenderStats
     }
     aovs
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::description::description_from_str;
+    use crate::description::parse::Syntax;
+    use crate::math::Vec2;
+    use std::path::Path;
+
+    /// Splats each path's pixel index and a random number at the pixel's centre, to the image
+    /// and to a further image, through passes of `paths_per_pass` paths.
+    struct PixelTracer {
+        paths_per_pass: u64,
+    }
+
+    impl LightPathTracer for PixelTracer {
+        type Scratch = ();
+
+        fn trace<S: Sampler>(
+            &self,
+            _: &Scene,
+            (x, y): (u32, u32),
+            sampler: &mut S,
+            splats: &mut Vec<Splat>,
+            _: &mut (),
+            _: &mut TraceContext,
+        ) {
+            let pos = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+            let value = Vec3::new(x as f32, y as f32, sampler.get_1d());
+            splats.push(Splat::new(pos, value));
+            splats.push(Splat {
+                pos,
+                value: value * 2.0,
+                image: 1,
+            });
+        }
+
+        fn further_images(&self) -> Vec<String> {
+            vec!["twice".into()]
+        }
+
+        fn paths_per_pass(&self) -> u64 {
+            self.paths_per_pass
+        }
+    }
+
+    /// A batch larger than a pass goes in waves of chunks: the film (each pixel its own
+    /// splats' mean, under the box filter) and its further image are the same as in one pass.
+    #[test]
+    fn batches_larger_than_a_pass_go_in_waves() {
+        let toml = "[camera]\neye = [0.0, 0.0, 3.0]\nlook_at = [0.0, 0.0, 0.0]\nwidth = 40\n\
+                    height = 30\n[render]\nintegrator = \"ptracer\"\nspp = 3\n\
+                    filter = { type = \"box\" }\n";
+        let d = description_from_str(toml, Syntax::Toml, Path::new("t.toml")).unwrap();
+        let scene = Scene::new(&d, Path::new(".")).unwrap();
+        let options = RenderOptions {
+            skip_aovs: true,
+            ..Default::default()
+        };
+        let in_one = PixelTracer {
+            paths_per_pass: PATHS_PER_PASS,
+        };
+        let in_waves = PixelTracer {
+            paths_per_pass: CHUNK as u64,
+        };
+        let (one, _) = render_light_paths(&scene, &in_one, 0, &options).unwrap();
+        let (waves, stats) = render_light_paths(&scene, &in_waves, 0, &options).unwrap();
+        assert_eq!(stats.spp, 3);
+        assert_eq!(one.rgb, waves.rgb);
+        assert_eq!(one.channels, waves.channels);
+        for (k, c) in waves.rgb.iter().enumerate() {
+            assert_eq!((c.x, c.y), ((k % 40) as f32, (k / 40) as f32));
+            assert_eq!(
+                waves.channels[1].values[k],
+                2.0 * c.y,
+                "{}",
+                waves.channels[1].name
+            );
+        }
+    }
+}
