@@ -36,8 +36,8 @@ pub struct RoughPlasticParams {
     pub internal_reflectance: f32,
     /// Transmittance of the coating from outside, at `cos θ = i / (TRANSMITTANCE_RES - 1)`.
     pub external_transmittance: &'static Table,
-    /// The tables of the coating [`Bsdf::regularized`] widens this one to; `None` where the
-    /// rule leaves the roughness as it is.
+    /// The coating [`Bsdf::regularized`] widens this one to; `None` where the rule leaves the
+    /// roughness as it is.
     pub regularized_coating: Option<&'static CoatingTables>,
 }
 
@@ -73,13 +73,13 @@ impl RoughPlasticParams {
     }
 }
 
-/// The transmittance table of one rough coating `(kind, alpha, eta)`, computed on first use: what a material
-/// keeps for the coating of its regularized twin ([`Bsdf::regularized`]), which a renderer may
-/// ask for at any hit, without paying the quadrature at load for the many materials that are
-/// never regularized. Interned for the life of the process, like the tables themselves, and
-/// linked to the coating it regularizes to in turn, so that building a regularized BSDF at a hit
-/// takes no lock once the tables exist (the first hit computes them, a few milliseconds; other
-/// threads wait for it).
+/// The transmittance table of one rough coating `(kind, alpha, eta)`, computed on first use:
+/// what a material keeps for the coating of its regularized twin ([`Bsdf::regularized`]), which
+/// a renderer may ask for at any hit, without paying the quadrature at load for the many
+/// materials that are never regularized. Interned for the life of the process, like the tables
+/// themselves, and linked to the coating it regularizes to in turn, so that building a
+/// regularized BSDF at a hit takes no lock once the table exists (the first such hit computes
+/// it, up to a few tens of milliseconds, while other threads needing it wait).
 pub struct CoatingTables {
     /// Isotropic: `alpha_u` is the roughness.
     pub distribution: Microfacet,
