@@ -164,6 +164,17 @@ impl SurfaceBsdf {
         }
     }
 
+    /// The BSDF with every leaf regularized ([`AnyBsdf::regularized`], pbrt-v4's
+    /// `BSDF::Regularize`): both BSDFs of a blend, its weight, the two-sided flips and a normal
+    /// or bump map's frame kept.
+    pub fn regularized(&self) -> SurfaceBsdf {
+        SurfaceBsdf {
+            bsdf: self.bsdf.regularized(),
+            blend: self.blend.map(|(second, w)| (second.regularized(), w)),
+            ..*self
+        }
+    }
+
     pub fn flags(&self) -> BsdfFlags {
         match &self.blend {
             Some((second, _)) => self.bsdf.flags() | second.flags(),

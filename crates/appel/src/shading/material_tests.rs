@@ -484,3 +484,51 @@ fn negative_bitangent_sign_mirrors_the_map_s_y() {
     }
     assert!(differs);
 }
+
+/// Regularizing a surface regularizes its leaves: both BSDFs of a blend, seen from behind
+/// through a two-sided wrapper, with the blend's weight and the mirroring kept, so that its
+/// value is the blend of the regularized leaves at the mirrored directions.
+#[test]
+fn regularizing_a_surface_regularizes_both_blended_bsdfs() {
+    let materials = vec![
+        Material::TwoSided { front: 1, back: 1 },
+        Material::Blend {
+            weight: Texture::Constant(Vec3::splat(0.3)),
+            first: 2,
+            second: 3,
+        },
+        rough_conductor(),
+        Material::Dielectric(crate::shading::bsdf::DielectricMaterial {
+            eta: 1.5,
+            reflectance: Texture::Constant(Vec3::ONE),
+            transmittance: Texture::Constant(Vec3::ONE),
+        }),
+    ];
+    let wo = dir(0.3, -0.2, -0.9);
+    let s = Material::bsdf(&materials, 0, &point(wo));
+    let r = s.regularized();
+    assert!(s.flip_outer && r.flip_outer);
+    let AnyBsdf::RoughConductor(first) = r.bsdf else {
+        panic!("{r:?}");
+    };
+    // The conductor's (0.25, 0.05) widened to (0.3, 0.1).
+    assert_eq!(
+        (first.distribution.alpha_u, first.distribution.alpha_v),
+        (0.3, 0.1)
+    );
+    let Some((AnyBsdf::RoughDielectric(second), w)) = r.blend else {
+        panic!("{r:?}");
+    };
+    assert_eq!(w, 0.3);
+    assert_eq!(second.distribution.alpha_u, 0.1);
+    assert!(s.flags().is_delta());
+    assert!(!r.flags().is_delta());
+    let mirror = |w: Vec3| Vec3::new(w.x, w.y, -w.z);
+    for wi in [dir(-0.3, 0.25, -0.9), dir(0.1, 0.4, 0.9)] {
+        let (f, pdf) = r.eval_pdf(wo, wi);
+        let (f1, p1) = r.bsdf.eval_pdf(mirror(wo), mirror(wi));
+        let (f2, p2) = AnyBsdf::RoughDielectric(second).eval_pdf(mirror(wo), mirror(wi));
+        assert!((f - (f1 * 0.7 + f2 * 0.3)).abs().max_element() < 1e-6);
+        assert!((pdf - (p1 * 0.7 + p2 * 0.3)).abs() < 1e-5 * pdf.max(1.0));
+    }
+}

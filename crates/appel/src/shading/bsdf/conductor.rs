@@ -2,7 +2,7 @@
 //! `conductor`.
 
 use super::fresnel::{fresnel_conductor, reflect};
-use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
+use super::{AnyBsdf, Bsdf, BsdfFlags, BsdfSample, Microfacet, Phong, RoughConductor};
 use crate::math::{Vec2, Vec3};
 use super::{BsdfMaterial, TextureSource};
 use crate::error::{Error, Result};
@@ -52,6 +52,17 @@ impl Bsdf for Conductor {
 
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::DELTA_REFLECTION
+    }
+
+    /// The rough conductor of the same Fresnel, GGX of roughness 0.1 (pbrt-v4's
+    /// `ConductorBxDF::Regularize` of a smooth metal).
+    fn regularized(&self) -> AnyBsdf {
+        AnyBsdf::RoughConductor(RoughConductor::new(
+            Microfacet::regularized_smooth(),
+            self.eta,
+            self.k,
+            self.specular_reflectance,
+        ))
     }
 }
 

@@ -2,7 +2,7 @@
 //! refraction, Mitsuba's `dielectric`.
 
 use super::fresnel::{fresnel_dielectric, reflect, refract};
-use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
+use super::{AnyBsdf, Bsdf, BsdfFlags, BsdfSample, Microfacet, Phong, RoughDielectric};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, BsdfMaterial, TextureSource};
 use crate::error::Result;
@@ -60,6 +60,22 @@ impl Bsdf for Dielectric {
 
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::DELTA_REFLECTION | BsdfFlags::DELTA_TRANSMISSION
+    }
+
+    /// The rough dielectric of the same interface, GGX of roughness 0.1 (pbrt-v4's
+    /// `DielectricBxDF::Regularize` of a smooth interface). An index-matched interface
+    /// (`eta == 1`) stays as it is, as pbrt-v4 keeps it specular at any roughness: light crosses
+    /// it undeviated, and the rough form's generalized half vector would vanish.
+    fn regularized(&self) -> AnyBsdf {
+        if self.eta == 1.0 {
+            return AnyBsdf::Dielectric(*self);
+        }
+        AnyBsdf::RoughDielectric(RoughDielectric::new(
+            Microfacet::regularized_smooth(),
+            self.eta,
+            self.specular_reflectance,
+            self.specular_transmittance,
+        ))
     }
 }
 

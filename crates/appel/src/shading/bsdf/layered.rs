@@ -18,7 +18,7 @@
 
 use super::fresnel::fresnel_dielectric;
 use super::microfacet::{Microfacet, MicrofacetKind};
-use super::{mulsign, Bsdf, BsdfFlags, BsdfSample, Conductor, Dielectric, RoughConductor};
+use super::{mulsign, AnyBsdf, Bsdf, BsdfFlags, BsdfSample, Conductor, Dielectric, RoughConductor};
 use super::{Diffuse, Phong, RoughDielectric};
 use crate::math::{Vec2, Vec3};
 use crate::shading::frame::ShadingFrame;
@@ -74,6 +74,19 @@ impl Interface {
     #[inline]
     fn is_specular(&self) -> bool {
         self.distribution.alpha_u.max(self.distribution.alpha_v) < SMOOTH_ALPHA
+    }
+
+    /// pbrt-v4's `DielectricBxDF::Regularize`: the roughness widened by
+    /// [`Microfacet::regularized`], a smooth interface becoming rough GGX of 0.1; an
+    /// index-matched one (`eta == 1`) stays as it is, as for [`Dielectric`].
+    pub fn regularized(&self) -> Self {
+        if self.eta == 1.0 {
+            return *self;
+        }
+        Interface {
+            distribution: self.distribution.regularized(),
+            ..*self
+        }
     }
 
     #[inline]
@@ -205,6 +218,8 @@ pub trait Base: Copy {
     fn smooth_lobe(&self) -> BsdfFlags;
     /// Whitted's response of the base under its coating ([`Bsdf::whitted`]).
     fn whitted_coated(&self) -> Phong;
+    /// The base as [`Bsdf::regularized`] widens it.
+    fn regularized(&self) -> Self;
 }
 
 impl Base for Diffuse {
@@ -229,6 +244,10 @@ impl Base for Diffuse {
     }
     fn smooth_lobe(&self) -> BsdfFlags {
         BsdfFlags::DIFFUSE_REFLECTION
+    }
+    /// Nothing to widen (pbrt-v4's `DiffuseBxDF::Regularize` does nothing).
+    fn regularized(&self) -> Self {
+        *self
     }
 }
 
@@ -291,6 +310,13 @@ impl Base for Metal {
     }
     fn smooth_lobe(&self) -> BsdfFlags {
         BsdfFlags::GLOSSY_REFLECTION
+    }
+    /// pbrt-v4's `ConductorBxDF::Regularize`: a mirror becomes rough GGX of 0.1.
+    fn regularized(&self) -> Self {
+        Metal {
+            distribution: self.distribution.regularized(),
+            ..*self
+        }
     }
 }
 
@@ -587,6 +613,20 @@ impl<B: Base> Layered<B> {
 impl<B: Base> Bsdf for Layered<B> {
     fn whitted(&self) -> Phong {
         self.base.whitted_coated()
+    }
+
+    /// Both interfaces regularized, the layer between them unchanged (pbrt-v4's
+    /// `LayeredBxDF::Regularize`).
+    fn regularized(&self) -> AnyBsdf
+    where
+        Self: Into<AnyBsdf>,
+    {
+        Layered {
+            top: self.top.regularized(),
+            base: self.base.regularized(),
+            layer: self.layer,
+        }
+        .into()
     }
 
     /// A Monte Carlo estimate (unbiased) of `f(wo, wi) cos θi`, deterministic in the directions.

@@ -58,6 +58,27 @@ impl Microfacet {
         )
     }
 
+    /// The distribution as pbrt-v4's `regularize` option widens it
+    /// (`TrowbridgeReitzDistribution::Regularize`): each roughness below 0.3 is doubled and kept
+    /// in [0.1, 0.3] (see [`regularized_alpha`]), so that a near-specular lobe becomes one that
+    /// light sampling and bidirectional connections can find, at the price of bias. pbrt has
+    /// only GGX; a Beckmann distribution keeps its kind, the rule applied to its `alpha` alike.
+    pub fn regularized(&self) -> Self {
+        Microfacet {
+            alpha_u: regularized_alpha(self.alpha_u),
+            alpha_v: regularized_alpha(self.alpha_v),
+            ..*self
+        }
+    }
+
+    /// What a smooth (delta) interface becomes under regularization: a smooth surface is
+    /// roughness 0 (pbrt-v4's "effectively smooth" Trowbridge-Reitz), which the rule of
+    /// [`Self::regularized`] takes to GGX of roughness 0.1, sampled by its visible normals as
+    /// pbrt samples it.
+    pub fn regularized_smooth() -> Self {
+        Microfacet::isotropic(MicrofacetKind::Ggx, 0.0, true).regularized()
+    }
+
     /// The same distribution with both roughnesses multiplied by `factor` (Walter et al. 2007,
     /// section 5.3, widen the sampled lobe to reduce the weights' variance).
     pub fn scaled(&self, factor: f32) -> Self {
@@ -237,6 +258,18 @@ impl Microfacet {
                 Vec2::new((cos_theta_o * y - sin_theta * z) * norm, x * norm)
             }
         }
+    }
+}
+
+/// pbrt-v4's regularization of one roughness: below 0.3 doubled and clamped to [0.1, 0.3],
+/// from 0.3 on unchanged (so that the rule never makes a surface smoother, and leaves rough ones
+/// alone).
+#[inline]
+pub fn regularized_alpha(alpha: f32) -> f32 {
+    if alpha < 0.3 {
+        (2.0 * alpha).clamp(0.1, 0.3)
+    } else {
+        alpha
     }
 }
 

@@ -158,6 +158,20 @@ pub trait Bsdf: Copy {
         let _ = wo;
         Vec3::ZERO
     }
+
+    /// The BSDF as pbrt-v4's `regularize` option sees it after a path's first non-specular
+    /// bounce (pbrt-v4's `BxDF::Regularize`): every microfacet roughness below 0.3 widened by
+    /// [`Microfacet::regularized`], a smooth (delta) lobe replaced by its rough twin of roughness
+    /// 0.1, so that paths through near-specular surfaces (caustics seen in a mirror) become
+    /// findable by light sampling and connections, at the price of bias. May be another BSDF
+    /// (a smooth `dielectric` becomes a `roughdielectric`). The default, for BSDFs with nothing
+    /// near-specular to widen (diffuse lobes, the null lobe), is the BSDF unchanged.
+    fn regularized(&self) -> AnyBsdf
+    where
+        Self: Into<AnyBsdf>,
+    {
+        (*self).into()
+    }
 }
 
 /// Where a material's textures come from: the scene's cache of decoded images.
@@ -250,7 +264,22 @@ macro_rules! define_bsdfs {
                     $(AnyBsdf::$Variant(b) => b.whitted(),)*
                 }
             }
+
+            /// See [`Bsdf::regularized`].
+            #[inline]
+            pub fn regularized(&self) -> AnyBsdf {
+                match self {
+                    $(AnyBsdf::$Variant(b) => b.regularized(),)*
+                }
+            }
         }
+
+        $(impl From<$Bsdf> for AnyBsdf {
+            #[inline]
+            fn from(b: $Bsdf) -> AnyBsdf {
+                AnyBsdf::$Variant(b)
+            }
+        })*
     };
 }
 for_each_bsdf!(define_bsdfs);

@@ -10,7 +10,7 @@
 //! coefficient where that is at least one half, otherwise Lambertian reflection of its diffuse
 //! colour (documented in docs/scene-format.md).
 
-use super::{Bsdf, BsdfFlags, BsdfMaterial, BsdfSample, Conductor, Dielectric, Diffuse};
+use super::{AnyBsdf, Bsdf, BsdfFlags, BsdfMaterial, BsdfSample, Conductor, Dielectric, Diffuse};
 use super::TextureSource;
 use crate::description::PhongDesc;
 use crate::error::Result;
@@ -236,6 +236,17 @@ impl Bsdf for Phong {
     #[inline(always)]
     fn whitted(&self) -> Phong {
         *self
+    }
+
+    /// The Monte Carlo integrators see the model as its physically based equivalent, so that
+    /// one is regularized: glass and mirrors become their rough twins, the Lambertian
+    /// equivalent stays this BSDF.
+    fn regularized(&self) -> AnyBsdf {
+        match self.equivalent() {
+            Equivalent::Dielectric(b) => b.regularized(),
+            Equivalent::Conductor(b) => b.regularized(),
+            Equivalent::Diffuse(_) => AnyBsdf::Phong(*self),
+        }
     }
 }
 

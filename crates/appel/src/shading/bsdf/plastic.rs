@@ -4,7 +4,8 @@
 
 use super::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance, reflect};
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
+use super::roughplastic::CoatingTables;
+use super::{AnyBsdf, Bsdf, BsdfFlags, BsdfSample, Microfacet, Phong};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, texture_mean, BsdfMaterial, TextureSource};
 use crate::error::Result;
@@ -20,6 +21,8 @@ pub struct PlasticParams {
     pub fdr_int: f32,
     /// Share of the specular lobe in sampling, before Fresnel weighting.
     pub specular_sampling_weight: f32,
+    /// The rough coating of the regularized twin ([`Bsdf::regularized`]).
+    pub regularized_coating: &'static CoatingTables,
 }
 
 impl PlasticParams {
@@ -33,8 +36,16 @@ impl PlasticParams {
             nonlinear,
             fdr_int: fresnel_diffuse_reflectance(1.0 / eta),
             specular_sampling_weight: specular_mean / (diffuse_mean + specular_mean),
+            regularized_coating: regularized_coating(eta),
         }
     }
+}
+
+/// The coating a smooth one of relative index `eta` regularizes to: GGX of roughness 0.1
+/// ([`Microfacet::regularized_smooth`]).
+fn regularized_coating(eta: f32) -> &'static CoatingTables {
+    let d = Microfacet::regularized_smooth();
+    CoatingTables::of(d.kind, d.alpha_u, eta)
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,6 +54,7 @@ pub struct Plastic {
     pub nonlinear: bool,
     pub fdr_int: f32,
     pub specular_sampling_weight: f32,
+    pub regularized_coating: &'static CoatingTables,
     pub diffuse_reflectance: Vec3,
     pub specular_reflectance: Vec3,
 }
@@ -58,6 +70,7 @@ impl Plastic {
             nonlinear: params.nonlinear,
             fdr_int: params.fdr_int,
             specular_sampling_weight: params.specular_sampling_weight,
+            regularized_coating: params.regularized_coating,
             diffuse_reflectance,
             specular_reflectance,
         }
@@ -156,6 +169,22 @@ impl Bsdf for Plastic {
 
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::DELTA_REFLECTION | BsdfFlags::DIFFUSE_REFLECTION
+    }
+
+    /// The rough plastic of the same base and interface under a GGX coating of roughness 0.1
+    /// (Mitsuba's `roughplastic`, the rough twin of this model; pbrt-v4 has no plastic, but
+    /// regularizes its `coateddiffuse`'s smooth interface the same way), with the same lobe
+    /// sampling weight and colour shift, and this coating's internal reflectance, so that the
+    /// diffuse base stays as bright (see [`CoatingTables::rough_plastic`]).
+    fn regularized(&self) -> AnyBsdf {
+        AnyBsdf::RoughPlastic(self.regularized_coating.rough_plastic(
+            true,
+            self.nonlinear,
+            self.specular_sampling_weight,
+            self.fdr_int,
+            self.diffuse_reflectance,
+            self.specular_reflectance,
+        ))
     }
 }
 

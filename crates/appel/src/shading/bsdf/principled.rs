@@ -17,9 +17,9 @@
 //! Mitsuba's lobe probabilities (its `principled.cpp`) are used for sampling; `pdf` is their mixture.
 
 use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
-use super::microfacet::{Microfacet, MicrofacetKind};
+use super::microfacet::{regularized_alpha, Microfacet, MicrofacetKind};
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
+use super::{AnyBsdf, Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use crate::shading::texture::luminance;
 use std::f32::consts::{FRAC_1_PI, PI};
@@ -49,6 +49,10 @@ pub struct Principled {
     pub diffuse_rate: f32,
     pub specular_rate: f32,
     pub clearcoat_rate: f32,
+    /// How many times [`Bsdf::regularized`] has widened the microfacet lobes (0, or 1 after a
+    /// path's first non-specular bounce): their roughnesses are derived from Burley's
+    /// parameters at each use, and widened there.
+    pub regularizations: u8,
 }
 
 /// Schlick's weight `(1 - cos)^5`, the argument clamped to [0, 1].
@@ -126,6 +130,12 @@ pub(crate) fn distribution(roughness: f32, anisotropic: f32) -> Microfacet {
         (r2 * aspect).max(0.001),
         true,
     )
+}
+
+/// `d` widened `times` times by pbrt-v4's regularization ([`Microfacet::regularized`]).
+#[inline]
+pub(crate) fn regularized_times(d: Microfacet, times: u8) -> Microfacet {
+    (0..times).fold(d, |d, _| d.regularized())
 }
 
 /// Burley's diffuse with retro-reflection, blended by `flatness` with the fake subsurface term,
@@ -227,6 +237,30 @@ struct Probabilities {
 }
 
 impl Principled {
+    /// The main lobe's GGX distribution (see [`Self::regularizations`]).
+    #[inline]
+    pub(crate) fn main_distribution(&self) -> Microfacet {
+        regularized_times(
+            distribution(self.roughness, self.anisotropic),
+            self.regularizations,
+        )
+    }
+
+    /// The clearcoat's GTR1 roughness, regularized by the same rule as the GGX lobes' (see
+    /// [`Self::regularizations`]).
+    #[inline]
+    pub(crate) fn clearcoat_alpha(&self) -> f32 {
+        let alpha = Gtr1::from_gloss(self.clearcoat_gloss).alpha;
+        (0..self.regularizations).fold(alpha, |a, _| regularized_alpha(a))
+    }
+
+    #[inline]
+    fn clearcoat_distribution(&self) -> Gtr1 {
+        Gtr1 {
+            alpha: self.clearcoat_alpha(),
+        }
+    }
+
     /// Weights of the opaque dielectric (diffuse) and transmitting parts.
     #[inline]
     fn weights(&self) -> (f32, f32) {
@@ -321,7 +355,7 @@ impl Bsdf for Principled {
         let refract = cos_o * cos_i < 0.0;
         let front = cos_o > 0.0;
         let eta_path = if front { self.eta } else { 1.0 / self.eta };
-        let dist = distribution(self.roughness, self.anisotropic);
+        let dist = self.main_distribution();
         let h = self.half_vector(wo, wi, reflect, eta_path);
         let (f_d, _, _, _) = fresnel_dielectric(wo.dot(h), self.eta);
         let reflect_ok = reflect && microfacet_compatible(h, wo, wi, cos_o, true);
@@ -343,7 +377,7 @@ impl Bsdf for Principled {
         }
         if reflect_ok && front && self.clearcoat > 0.0 {
             let fcc = schlick_fresnel(Vec3::splat(0.04), wo.dot(h), self.eta).x;
-            let dcc = Gtr1::from_gloss(self.clearcoat_gloss).d(h);
+            let dcc = self.clearcoat_distribution().d(h);
             let gcc = smith_ggx1(wo, h, 0.25) * smith_ggx1(wi, h, 0.25);
             value += Vec3::splat(0.25 * self.clearcoat * fcc * dcc * gcc * cos_i.abs());
         }
@@ -390,13 +424,13 @@ impl Bsdf for Principled {
             let denom = o_h + eta_path * i_h;
             (eta_path * eta_path * i_h / (denom * denom)).abs()
         };
-        let dist = distribution(self.roughness, self.anisotropic);
+        let dist = self.main_distribution();
         let wo_up = mulsign(wo, cos_o);
         let mut pdf = 0.0;
         if reflect && microfacet_compatible(h, wo, wi, cos_o, true) {
             pdf += p.spec_reflect * dist.pdf(wo_up, h) * jacobian;
             if p.clearcoat > 0.0 {
-                pdf += p.clearcoat * Gtr1::from_gloss(self.clearcoat_gloss).pdf(h) * jacobian;
+                pdf += p.clearcoat * self.clearcoat_distribution().pdf(h) * jacobian;
             }
         }
         if reflect {
@@ -420,7 +454,7 @@ impl Bsdf for Principled {
         if cos_o == 0.0 || (!front && bsdf <= 0.0) {
             return None;
         }
-        let dist = distribution(self.roughness, self.anisotropic);
+        let dist = self.main_distribution();
         let (m, _) = dist.sample(mulsign(wo, cos_o), u2);
         let (f_d, cos_t, eta_it, eta_ti) = fresnel_dielectric(wo.dot(m), self.eta);
         let p = self.probabilities(front, f_d);
@@ -428,7 +462,7 @@ impl Bsdf for Principled {
             let wi = square_to_cosine_hemisphere(u2);
             (wi, BsdfFlags::DIFFUSE_REFLECTION, 1.0)
         } else if u1 < p.diffuse + p.clearcoat {
-            let m = Gtr1::from_gloss(self.clearcoat_gloss).sample(u2);
+            let m = self.clearcoat_distribution().sample(u2);
             let wi = reflect_about(wo, m);
             if cos_o * wi.z <= 0.0 || !microfacet_compatible(m, wo, wi, cos_o, true) {
                 return None;
@@ -466,6 +500,27 @@ impl Bsdf for Principled {
             f = f | BsdfFlags::GLOSSY_TRANSMISSION;
         }
         f
+    }
+
+    /// pbrt-v4's rule for every microfacet lobe, in the spirit of its `Regularize` (pbrt has no
+    /// principled BSDF): the main GGX lobe's roughnesses and the clearcoat's GTR1 roughness
+    /// widened as [`Microfacet::regularized`] widens them; the diffuse, retro-reflection and
+    /// sheen terms, which are not near-specular, unchanged (Burley's `roughness` also shapes the
+    /// retro-reflection, which is why the widening applies to the lobes' alphas, not to it).
+    /// Unchanged where no lobe would widen.
+    fn regularized(&self) -> AnyBsdf {
+        let main = self.main_distribution();
+        let coat = self.clearcoat_alpha();
+        let widens =
+            main.regularized() != main || (self.clearcoat > 0.0 && regularized_alpha(coat) != coat);
+        AnyBsdf::Principled(if widens {
+            Principled {
+                regularizations: self.regularizations.saturating_add(1),
+                ..*self
+            }
+        } else {
+            *self
+        })
     }
 }
 
@@ -554,6 +609,7 @@ impl BsdfMaterial for Box<PrincipledTextures> {
             diffuse_rate: p.rates[0],
             specular_rate: p.rates[1],
             clearcoat_rate: p.rates[2],
+            regularizations: 0,
         }
     }
 }

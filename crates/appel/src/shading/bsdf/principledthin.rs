@@ -7,11 +7,11 @@
 
 use super::fresnel::{fresnel_dielectric, reflect_about};
 use super::principled::{
-    disney_diffuse, distribution, microfacet_compatible, schlick_fresnel, schlick_r0,
-    schlick_weight, sheen_color, tint,
+    disney_diffuse, distribution, microfacet_compatible, regularized_times, schlick_fresnel,
+    schlick_r0, schlick_weight, sheen_color, tint,
 };
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
+use super::{AnyBsdf, Microfacet, Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 use super::{BsdfMaterial, TextureSource};
@@ -40,6 +40,9 @@ pub struct PrincipledThin {
     pub spec_trans_rate: f32,
     pub diffuse_reflect_rate: f32,
     pub diffuse_trans_rate: f32,
+    /// How many times [`Bsdf::regularized`] has widened the two microfacet lobes (see
+    /// [`super::Principled::regularizations`]).
+    pub regularizations: u8,
 }
 
 struct Probabilities {
@@ -69,8 +72,21 @@ impl PrincipledThin {
     }
 
     /// Burley's IOR-scaled roughness of the transmission lobe (2015, Figure 15).
-    fn transmission_distribution(&self) -> super::Microfacet {
-        distribution((0.65 * self.eta - 0.35) * self.roughness, self.anisotropic)
+    /// Widened as [`Self::regularizations`] says, as is the reflection lobe's.
+    pub(crate) fn transmission_distribution(&self) -> Microfacet {
+        regularized_times(
+            distribution((0.65 * self.eta - 0.35) * self.roughness, self.anisotropic),
+            self.regularizations,
+        )
+    }
+
+    /// The GGX distribution of the specular reflection.
+    #[inline]
+    pub(crate) fn reflection_distribution(&self) -> Microfacet {
+        regularized_times(
+            distribution(self.roughness, self.anisotropic),
+            self.regularizations,
+        )
     }
 
     /// `wo` and `wi` mirrored to `wo`'s side, and the half vector of `wo` with `wi` reflected
@@ -103,7 +119,7 @@ impl Bsdf for PrincipledThin {
         if self.spec_trans > 0.0 {
             let f_d = fresnel_dielectric(o.dot(h), self.eta).0;
             if reflect && microfacet_compatible(h, o, i, o.z, true) {
-                let dist = distribution(self.roughness, self.anisotropic);
+                let dist = self.reflection_distribution();
                 // The dielectric Fresnel blended by `spec_tint` with Schlick's of the tinted R0.
                 let schlick = if self.spec_tint > 0.0 {
                     schlick_fresnel(
@@ -153,7 +169,7 @@ impl Bsdf for PrincipledThin {
             // reflection's Jacobian 1 / (4 |i_r · h|).
             let jacobian = (1.0 / (4.0 * Vec3::new(i.x, i.y, i.z.abs()).dot(h))).abs();
             if reflect && microfacet_compatible(h, o, i, o.z, true) {
-                let dist = distribution(self.roughness, self.anisotropic);
+                let dist = self.reflection_distribution();
                 pdf += p.spec_reflect * dist.pdf(o, h) * jacobian;
             }
             if refract && microfacet_compatible(h, o, i, o.z, false) {
@@ -181,7 +197,7 @@ impl Bsdf for PrincipledThin {
         let o = mulsign(wo, wo.z);
         let p = self.probabilities();
         let (i, lobe) = if u1 < p.spec_reflect {
-            let (m, _) = distribution(self.roughness, self.anisotropic).sample(o, u2);
+            let (m, _) = self.reflection_distribution().sample(o, u2);
             let i = reflect_about(o, m);
             if i.z <= 0.0 || !microfacet_compatible(m, o, i, o.z, true) {
                 return None;
@@ -231,6 +247,23 @@ impl Bsdf for PrincipledThin {
             f = f | BsdfFlags::GLOSSY_REFLECTION | BsdfFlags::GLOSSY_TRANSMISSION;
         }
         f
+    }
+
+    /// The specular reflection's and transmission's GGX roughnesses widened by pbrt-v4's rule,
+    /// the diffuse terms unchanged, as for [`super::Principled`]; unchanged where neither lobe
+    /// would widen.
+    fn regularized(&self) -> AnyBsdf {
+        let widens = [self.reflection_distribution(), self.transmission_distribution()]
+            .iter()
+            .any(|d| d.regularized() != *d);
+        AnyBsdf::PrincipledThin(if widens {
+            PrincipledThin {
+                regularizations: self.regularizations.saturating_add(1),
+                ..*self
+            }
+        } else {
+            *self
+        })
     }
 }
 
@@ -298,6 +331,7 @@ impl BsdfMaterial for Box<PrincipledThinTextures> {
             spec_trans_rate: p.rates[1],
             diffuse_reflect_rate: p.rates[2],
             diffuse_trans_rate: p.rates[3],
+            regularizations: 0,
         }
     }
 }

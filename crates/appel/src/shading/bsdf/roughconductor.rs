@@ -3,7 +3,7 @@
 
 use super::fresnel::{fresnel_conductor, reflect_about};
 use super::microfacet::Microfacet;
-use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
+use super::{AnyBsdf, Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::conductor::metal;
 use super::{BsdfMaterial, Roughness, TextureSource};
@@ -125,6 +125,15 @@ impl Bsdf for RoughConductor {
 
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::GLOSSY_REFLECTION
+    }
+
+    /// The same BSDF with its roughness widened by pbrt-v4's rule ([`Microfacet::regularized`]);
+    /// unchanged where both roughnesses are 0.3 or more.
+    fn regularized(&self) -> AnyBsdf {
+        AnyBsdf::RoughConductor(RoughConductor {
+            distribution: self.distribution.regularized(),
+            ..*self
+        })
     }
 }
 

@@ -3,7 +3,7 @@
 
 use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
 use super::microfacet::Microfacet;
-use super::{Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
+use super::{AnyBsdf, Phong, mulsign, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use super::{ior_ratio, BsdfMaterial, Roughness, TextureSource};
 use crate::error::Result;
@@ -204,6 +204,15 @@ impl Bsdf for RoughDielectric {
 
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::GLOSSY_REFLECTION | BsdfFlags::GLOSSY_TRANSMISSION
+    }
+
+    /// The same BSDF with its roughness widened by pbrt-v4's rule ([`Microfacet::regularized`]);
+    /// unchanged where both roughnesses are 0.3 or more.
+    fn regularized(&self) -> AnyBsdf {
+        AnyBsdf::RoughDielectric(RoughDielectric {
+            distribution: self.distribution.regularized(),
+            ..*self
+        })
     }
 }
 

@@ -7,10 +7,10 @@
 use super::fresnel::{fresnel_dielectric, reflect_about, refract_about};
 use super::microfacet::{Microfacet, MicrofacetKind};
 use super::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
-use super::{Phong, Bsdf, BsdfFlags, BsdfSample};
+use super::{AnyBsdf, Phong, Bsdf, BsdfFlags, BsdfSample};
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 use super::{ior_ratio, texture_mean, BsdfMaterial, TextureSource};
 use crate::error::{Error, Result};
 use crate::description::RoughPlasticDesc;
@@ -36,6 +36,9 @@ pub struct RoughPlasticParams {
     pub internal_reflectance: f32,
     /// Transmittance of the coating from outside, at `cos θ = i / (TRANSMITTANCE_RES - 1)`.
     pub external_transmittance: &'static Table,
+    /// The coating [`Bsdf::regularized`] widens this one to; `None` where the rule leaves the
+    /// roughness as it is.
+    pub regularized_coating: Option<&'static CoatingTables>,
 }
 
 impl RoughPlasticParams {
@@ -65,7 +68,118 @@ impl RoughPlasticParams {
             specular_sampling_weight: specular_mean / (diffuse_mean + specular_mean),
             internal_reflectance,
             external_transmittance,
+            regularized_coating: CoatingTables::of(distribution.kind, alpha, eta).regularized,
         }
+    }
+}
+
+/// The transmittance table of one rough coating `(kind, alpha, eta)`, computed on first use:
+/// what a material keeps for the coating of its regularized twin ([`Bsdf::regularized`]), which
+/// a renderer may ask for at any hit, without paying the quadrature at load for the many
+/// materials that are never regularized. Interned for the life of the process, like the tables
+/// themselves, and linked to the coating it regularizes to in turn, so that building a
+/// regularized BSDF at a hit takes no lock once the table exists (the first such hit computes
+/// it, up to a few tens of milliseconds, while other threads needing it wait).
+pub struct CoatingTables {
+    /// Isotropic: `alpha_u` is the roughness.
+    pub distribution: Microfacet,
+    pub eta: f32,
+    /// The coating of the regularized roughness, where it differs.
+    pub regularized: Option<&'static CoatingTables>,
+    tables: OnceLock<&'static Table>,
+}
+
+impl CoatingTables {
+    /// The interned entry of `(kind, alpha, eta)` and of the chain of coatings regularization
+    /// leads to from it (at most three: 0.1, 0.2, 0.3).
+    pub fn of(kind: MicrofacetKind, alpha: f32, eta: f32) -> &'static CoatingTables {
+        static ENTRIES: Mutex<Vec<&'static CoatingTables>> = Mutex::new(Vec::new());
+        let mut entries = ENTRIES.lock().unwrap_or_else(|e| e.into_inner());
+        Self::interned(&mut entries, kind, alpha, eta)
+    }
+
+    fn interned(
+        entries: &mut Vec<&'static CoatingTables>,
+        kind: MicrofacetKind,
+        alpha: f32,
+        eta: f32,
+    ) -> &'static CoatingTables {
+        let key = |c: &CoatingTables| {
+            (c.distribution.kind, c.distribution.alpha_u.to_bits(), c.eta.to_bits())
+        };
+        let distribution = Microfacet::isotropic(kind, alpha, true);
+        let wanted = (kind, distribution.alpha_u.to_bits(), eta.to_bits());
+        if let Some(&c) = entries.iter().find(|c| key(c) == wanted) {
+            return c;
+        }
+        let widened = distribution.regularized();
+        let regularized = (widened != distribution)
+            .then(|| Self::interned(entries, kind, widened.alpha_u, eta));
+        let entry: &'static CoatingTables = Box::leak(Box::new(CoatingTables {
+            distribution,
+            eta,
+            regularized,
+            tables: OnceLock::new(),
+        }));
+        entries.push(entry);
+        entry
+    }
+
+    /// The coating's transmittance from outside, as [`RoughPlasticParams::precompute`] tabulates
+    /// it.
+    pub fn external_transmittance(&self) -> &'static Table {
+        self.tables.get_or_init(|| {
+            tables(self.distribution.kind, self.distribution.alpha_u, self.eta).0
+        })
+    }
+
+    /// A rough plastic under this coating, the rest as given. `internal_reflectance` is the
+    /// regularized plastic's own: regularization widens the coating's lobe, through which the
+    /// base is seen, but should not change how bright the diffuse base is. (Mitsuba's estimate of
+    /// it at roughness 0.1 and index 1.5, 0.55 against the smooth coating's exact 0.60, would
+    /// darken a regularized plastic's diffuse light by a tenth.)
+    pub(crate) fn rough_plastic(
+        &self,
+        sample_visible: bool,
+        nonlinear: bool,
+        specular_sampling_weight: f32,
+        internal_reflectance: f32,
+        diffuse_reflectance: Vec3,
+        specular_reflectance: Vec3,
+    ) -> RoughPlastic {
+        let external_transmittance = self.external_transmittance();
+        RoughPlastic {
+            distribution: Microfacet {
+                sample_visible,
+                ..self.distribution
+            },
+            eta: self.eta,
+            nonlinear,
+            specular_sampling_weight,
+            internal_reflectance,
+            external_transmittance,
+            regularized_coating: self.regularized,
+            diffuse_reflectance,
+            specular_reflectance,
+        }
+    }
+}
+
+/// The coating's parameters (not its tables, nor the chain).
+impl std::fmt::Debug for CoatingTables {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CoatingTables")
+            .field("kind", &self.distribution.kind)
+            .field("alpha", &self.distribution.alpha_u)
+            .field("eta", &self.eta)
+            .finish()
+    }
+}
+
+/// Interned: the same entry is the same coating.
+impl PartialEq for CoatingTables {
+    fn eq(&self, other: &Self) -> bool {
+        std::ptr::eq(self, other)
     }
 }
 
@@ -181,6 +295,8 @@ pub struct RoughPlastic {
     pub specular_sampling_weight: f32,
     pub internal_reflectance: f32,
     pub external_transmittance: &'static Table,
+    /// See [`RoughPlasticParams::regularized_coating`].
+    pub regularized_coating: Option<&'static CoatingTables>,
     pub diffuse_reflectance: Vec3,
     pub specular_reflectance: Vec3,
 }
@@ -198,6 +314,7 @@ impl RoughPlastic {
             specular_sampling_weight: params.specular_sampling_weight,
             internal_reflectance: params.internal_reflectance,
             external_transmittance: params.external_transmittance,
+            regularized_coating: params.regularized_coating,
             diffuse_reflectance,
             specular_reflectance,
         }
@@ -319,6 +436,23 @@ impl Bsdf for RoughPlastic {
 
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::GLOSSY_REFLECTION | BsdfFlags::DIFFUSE_REFLECTION
+    }
+
+    /// The coating widened by pbrt-v4's rule ([`Microfacet::regularized`]), with the
+    /// transmittance of the wider coating and the base's internal reflectance kept (see
+    /// [`CoatingTables::rough_plastic`]); unchanged from roughness 0.3 on.
+    fn regularized(&self) -> AnyBsdf {
+        AnyBsdf::RoughPlastic(match self.regularized_coating {
+            None => *self,
+            Some(c) => c.rough_plastic(
+                self.distribution.sample_visible,
+                self.nonlinear,
+                self.specular_sampling_weight,
+                self.internal_reflectance,
+                self.diffuse_reflectance,
+                self.specular_reflectance,
+            ),
+        })
     }
 }
 

@@ -540,6 +540,7 @@ fn principled(metallic: f32, spec_trans: f32, clearcoat: f32, anisotropic: f32) 
         diffuse_rate: 1.0,
         specular_rate: 1.0,
         clearcoat_rate: 1.0,
+        regularizations: 0,
     }
 }
 
@@ -571,6 +572,7 @@ fn principled_thin(spec_trans: f32, diff_trans: f32) -> PrincipledThin {
         spec_trans_rate: 1.0,
         diffuse_reflect_rate: 1.0,
         diffuse_trans_rate: 1.0,
+        regularizations: 0,
     }
 }
 
@@ -737,6 +739,7 @@ fn principled_against_mitsuba() {
         diffuse_rate: 1.0,
         specular_rate: 1.0,
         clearcoat_rate: 1.0,
+        regularizations: 0,
     });
     let t = AnyBsdf::PrincipledThin(PrincipledThin {
         base_color: Vec3::new(0.7, 0.1, 0.1),
@@ -753,6 +756,7 @@ fn principled_against_mitsuba() {
         spec_trans_rate: 1.0,
         diffuse_reflect_rate: 1.0,
         diffuse_trans_rate: 1.0,
+        regularizations: 0,
     });
     #[rustfmt::skip]
     let cases = [
@@ -1250,3 +1254,6 @@ fn coated_evaluation_is_deterministic_and_one_sided() {
         );
     }
 }
+
+#[path = "regularize_tests.rs"]
+mod regularize;
