@@ -235,6 +235,9 @@ pub struct Bdpt {
     pub hide_emitters: bool,
     /// The strategies' images written beside the render, if any.
     pub strategy_images: Option<StrategyImages>,
+    /// Whether BSDFs past a subpath's first non-delta bounce are roughened (pbrt-v4's
+    /// `regularize`, see `BdptParams::regularize`).
+    pub regularize: bool,
 }
 
 impl Bdpt {
@@ -259,12 +262,13 @@ fn random_walk<S: Sampler>(
     mut beta: Vec3,
     mut pdf_dir: f32,
     max: usize,
-    rr_depth: u32,
+    integrator: &Bdpt,
     mode: Mode,
     path: &mut Vec<Vertex>,
     ctx: &mut TraceContext,
 ) {
     let mut eta = 1.0f32;
+    let mut any_non_delta = false;
     while path.len() < max {
         let Some(h) = intersect_through_masks(scene, &ray, sampler, ctx) else {
             // A camera subpath that leaves the scene ends on the infinite lights.
@@ -290,11 +294,14 @@ fn random_walk<S: Sampler>(
         let w_prev = -ray.dir;
         let frame = ShadingFrame::from_normal_tangent(si.ns, si.shading_tangent());
         let at = SurfacePoint::new(&si, &frame, w_prev, scene.geometry.attributes_at(&h.hit));
-        let bsdf = Material::bsdf(
+        let mut bsdf = Material::bsdf(
             &scene.shading_materials,
             scene.geometry.material(&h.hit),
             &at,
         );
+        if integrator.regularize && any_non_delta {
+            bsdf = bsdf.regularized();
+        }
         let mut v = Vertex {
             kind: Kind::Surface(surface_emitter(scene, &h)),
             p: si.p,
@@ -329,6 +336,7 @@ fn random_walk<S: Sampler>(
             break;
         }
         let delta = bs.lobe.is_delta();
+        any_non_delta |= !delta;
         let (mut fwd, mut rev) = (bs.pdf, bsdf.eval_pdf(bs.wi, wo).1);
         if delta {
             (fwd, rev) = (0.0, 0.0);
@@ -356,7 +364,7 @@ fn random_walk<S: Sampler>(
         if t <= 0.0 || !t.is_finite() {
             break;
         }
-        if path.len() as u32 >= rr_depth {
+        if path.len() as u32 >= integrator.rr_depth {
             let q = t.min(RR_MAX_PROBABILITY);
             if sampler.get_1d() >= q {
                 break;
@@ -399,7 +407,7 @@ fn camera_subpath<S: Sampler>(
         Vec3::ONE,
         pdf_dir,
         integrator.camera_vertices(),
-        integrator.rr_depth,
+        integrator,
         Mode::Radiance,
         path,
         ctx,
@@ -455,7 +463,7 @@ fn light_subpath<S: Sampler>(
         er.weight / pmf,
         er.pdf_dir,
         max,
-        integrator.rr_depth,
+        integrator,
         Mode::Importance,
         path,
         ctx,
@@ -848,6 +856,7 @@ impl Integrator for Bdpt {
             rr_depth: s.rr_depth,
             hide_emitters: s.hide_emitters,
             strategy_images: s.integrator_params.bdpt.strategy_images,
+            regularize: s.integrator_params.bdpt.regularize,
         };
         if b.strategy_images.is_some() && b.max_depth > MAX_DEPTH_OF_STRATEGY_IMAGES {
             return Err(Error::Invalid(format!(

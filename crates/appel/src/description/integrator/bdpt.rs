@@ -1,5 +1,5 @@
-//! `[render.bdpt]`: the debugging images of the bidirectional path tracer beyond the shared keys
-//! of `[render]` (`max_depth`, `rr_depth`, `hide_emitters`).
+//! `[render.bdpt]`: the bidirectional path tracer's regularization and debugging images, beyond
+//! the shared keys of `[render]` (`max_depth`, `rr_depth`, `hide_emitters`).
 
 use super::super::IntegratorTable;
 use serde::{Deserialize, Serialize};
@@ -11,6 +11,13 @@ pub struct BdptParams {
     /// channels `bdpt_dDD_sSS_tTT.R/G/B` (pbrt-v4's file names): none by default.
     #[serde(default)]
     pub strategy_images: Option<StrategyImages>,
+    /// pbrt-v4's `regularize`: past a subpath's first bounce off a lobe that is not a delta,
+    /// every BSDF is roughened (smooth ones to GGX alpha 0.1, alphas below 0.3 doubled, see
+    /// `SurfaceBsdf::regularized`), so that paths through specular surfaces on both sides of a
+    /// diffuse bounce (a caustic seen through glass, from a point light) can be joined: biased,
+    /// the image blurs such light rather than missing it. Off by default.
+    #[serde(default)]
+    pub regularize: bool,
 }
 
 /// What each strategy's image holds (pbrt-v4's `visualizestrategies` and `visualizeweights`).

@@ -246,7 +246,10 @@ impl SceneOptions {
                         strategy_images = Some(images);
                     }
                 }
-                self.bdpt = Some(BdptParams { strategy_images });
+                self.bdpt = Some(BdptParams {
+                    strategy_images,
+                    regularize: p.bool_or("regularize", false)?,
+                });
             }
             "lightpath" => self.integrator = Some(IntegratorName::Ptracer),
             "sppm" => {
@@ -301,9 +304,10 @@ impl SceneOptions {
         p.ignore("lightsampler");
         p.ignore("samplelights");
         p.ignore("samplebsdf");
-        if p.bool_or("regularize", false)? {
+        // pbrt's path tracers regularize too; Appel's only in `bdpt`.
+        if self.integrator != Some(IntegratorName::Bdpt) && p.bool_or("regularize", false)? {
             let at = &p.get("regularize").expect("read").loc;
-            return Err(at.error("\"regularize\" (a biased roughening) is not supported"));
+            return Err(at.error("\"regularize\" (a biased roughening) is supported by bdpt only"));
         }
         Ok(())
     }

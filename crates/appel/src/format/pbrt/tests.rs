@@ -113,6 +113,15 @@ fn other_estimators_of_the_same_light_are_path_traced() {
         "Integrator \"bdpt\" \"bool visualizestrategies\" true\n  \"bool visualizeweights\" true\n{CAMERA}WorldBegin\n"
     ));
     assert!(e.contains(":2:") && e.contains("choose one"), "{e}");
+    let regularize = |integrator: &str| {
+        load(&format!(
+            "Integrator \"{integrator}\" \"bool regularize\" true\n{CAMERA}WorldBegin\n"
+        ))
+    };
+    let bdpt = regularize("bdpt").unwrap().description.render.bdpt;
+    assert!(bdpt.is_some_and(|b| b.regularize));
+    let e = regularize("path").unwrap_err().to_string();
+    assert!(e.contains("supported by bdpt only"), "{e}");
     let s = load(&format!(
         "Integrator \"sppm\" \"integer maxdepth\" 7 \"float radius\" 0.01 \
          \"integer photonsperiteration\" 5000 \"integer seed\" 3\n{CAMERA}WorldBegin\n"

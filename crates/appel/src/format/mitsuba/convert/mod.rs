@@ -360,7 +360,7 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
             r.rr_depth = i.int_in("rr_depth", 1..=u32::MAX as i64)?.unwrap_or(5) as u32;
         }
         // Appel's own: Mitsuba 3 has no bidirectional path tracer; its keys are `path`'s, and
-        // `strategy_images` (`unweighted` or `weighted`) as in `[render.bdpt]`.
+        // `strategy_images` (`unweighted` or `weighted`) and `regularize` as in `[render.bdpt]`.
         "bdpt" => {
             r.integrator = IntegratorName::Bdpt;
             r.max_depth = i.int_in("max_depth", -1..=i32::MAX as i64)?.unwrap_or(-1) as i32;
@@ -375,7 +375,10 @@ fn integrator_desc(i: &Object) -> Result<RenderDesc> {
                     )))
                 }
             };
-            r.bdpt = Some(crate::description::BdptParams { strategy_images });
+            r.bdpt = Some(crate::description::BdptParams {
+                strategy_images,
+                regularize: i.bool_or("regularize", false)?,
+            });
         }
         // Appel's own, as `bdpt`: `path`'s keys and pbrt-v4's `sppm` parameters.
         "sppm" => {
