@@ -256,6 +256,28 @@ fn bdpt_agrees_with_path_in_the_cornell_box() {
     assert_agree("Cornell box", &bd, &pt);
 }
 
+/// Bidirectional and unidirectional path tracing agree on veach-mis (the pbrt-v4 file as it is,
+/// at 48 x 27 with a box filter): four glossy plates reflecting four spherical lights of radii
+/// from 0.03 to 0.9.
+#[test]
+#[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
+fn bdpt_agrees_with_path_on_veach_mis() {
+    let path = appel_testdata::path("bitterli-scenes/veach-mis/pbrt/scene-v4.pbrt");
+    let render_as = |integrator: appel::scene::IntegratorKind, spp: u32| {
+        let loaded = appel::format::load(&path, &Default::default()).unwrap();
+        let mut d = loaded.description;
+        (d.camera.width, d.camera.height) = (48, 27);
+        d.render.filter = appel::description::FilterDesc::Box { radius: 0.5 };
+        d.render.integrator = integrator;
+        d.render.spp = spp;
+        let scene = Scene::new(&d, &loaded.base_dir).unwrap();
+        render(&scene, &RenderOptions::default()).unwrap().0
+    };
+    let bd = render_as(appel::scene::IntegratorKind::Bdpt, 1024);
+    let pt = render_as(appel::scene::IntegratorKind::Path, 8192);
+    assert_agree("veach-mis", &bd, &pt);
+}
+
 /// bdpt's image (its pixel estimates and its splats) is the same for any number of threads.
 #[test]
 fn bdpt_images_do_not_depend_on_threads() {
