@@ -235,25 +235,35 @@ fn bdpt_agrees_with_path_on_a_caustic() {
     assert_agree("caustic", &bd, &path);
 }
 
+/// The film of the scene file `rel` in the shared data at `size`, with a box filter, rendered by
+/// `integrator` at `spp`.
+fn shared_scene(
+    rel: &str,
+    size: (u32, u32),
+    integrator: appel::scene::IntegratorKind,
+    spp: u32,
+) -> Film {
+    let loaded = appel::format::load(&appel_testdata::path(rel), &Default::default()).unwrap();
+    let mut d = loaded.description;
+    (d.camera.width, d.camera.height) = size;
+    d.render.filter = appel::description::FilterDesc::Box { radius: 0.5 };
+    d.render.integrator = integrator;
+    d.render.spp = spp;
+    let scene = Scene::new(&d, &loaded.base_dir).unwrap();
+    render(&scene, &RenderOptions::default()).unwrap().0
+}
+
 /// Bidirectional and unidirectional path tracing agree on the Cornell box (its Mitsuba file, at
 /// 32 x 32 with a box filter).
 #[test]
 #[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn bdpt_agrees_with_path_in_the_cornell_box() {
-    let path = appel_testdata::path("bitterli-scenes/cornell-box/mitsuba/scene_v3.xml");
-    let render_as = |integrator: appel::scene::IntegratorKind, spp: u32| {
-        let loaded = appel::format::load(&path, &Default::default()).unwrap();
-        let mut d = loaded.description;
-        (d.camera.width, d.camera.height) = (32, 32);
-        d.render.filter = appel::description::FilterDesc::Box { radius: 0.5 };
-        d.render.integrator = integrator;
-        d.render.spp = spp;
-        let scene = Scene::new(&d, &loaded.base_dir).unwrap();
-        render(&scene, &RenderOptions::default()).unwrap().0
+    use appel::scene::IntegratorKind::{Bdpt, Path};
+    let box_at = |integrator, spp| {
+        let file = "bitterli-scenes/cornell-box/mitsuba/scene_v3.xml";
+        shared_scene(file, (32, 32), integrator, spp)
     };
-    let bd = render_as(appel::scene::IntegratorKind::Bdpt, 128);
-    let pt = render_as(appel::scene::IntegratorKind::Path, 1024);
-    assert_agree("Cornell box", &bd, &pt);
+    assert_agree("Cornell box", &box_at(Bdpt, 128), &box_at(Path, 1024));
 }
 
 /// Bidirectional and unidirectional path tracing agree on veach-mis (the pbrt-v4 file as it is,
@@ -262,20 +272,12 @@ fn bdpt_agrees_with_path_in_the_cornell_box() {
 #[test]
 #[cfg_attr(not(shared_data), ignore = "needs ../shared/data")]
 fn bdpt_agrees_with_path_on_veach_mis() {
-    let path = appel_testdata::path("bitterli-scenes/veach-mis/pbrt/scene-v4.pbrt");
-    let render_as = |integrator: appel::scene::IntegratorKind, spp: u32| {
-        let loaded = appel::format::load(&path, &Default::default()).unwrap();
-        let mut d = loaded.description;
-        (d.camera.width, d.camera.height) = (48, 27);
-        d.render.filter = appel::description::FilterDesc::Box { radius: 0.5 };
-        d.render.integrator = integrator;
-        d.render.spp = spp;
-        let scene = Scene::new(&d, &loaded.base_dir).unwrap();
-        render(&scene, &RenderOptions::default()).unwrap().0
+    use appel::scene::IntegratorKind::{Bdpt, Path};
+    let plates_at = |integrator, spp| {
+        let file = "bitterli-scenes/veach-mis/pbrt/scene-v4.pbrt";
+        shared_scene(file, (48, 27), integrator, spp)
     };
-    let bd = render_as(appel::scene::IntegratorKind::Bdpt, 1024);
-    let pt = render_as(appel::scene::IntegratorKind::Path, 8192);
-    assert_agree("veach-mis", &bd, &pt);
+    assert_agree("veach-mis", &plates_at(Bdpt, 1024), &plates_at(Path, 8192));
 }
 
 /// bdpt's image (its pixel estimates and its splats) is the same for any number of threads.
