@@ -85,10 +85,12 @@ def reference(name):
     return img.reshape(SIZE, b, SIZE, b, 3).mean(axis=(1, 3))
 
 
-def render(appel, scene, integrator, seconds, threads, image):
+def render(appel, scene, integrator, seconds, threads, image, max_depth=None):
     cmd = [appel, "render", scene, "-o", image, "--integrator", integrator,
            "--size", f"{SIZE}x{SIZE}", "--threads", str(threads),
            "--time-limit", str(seconds), "--spp", "65536", "-q"]
+    if max_depth is not None:
+        cmd += ["--max-depth", str(max_depth)]
     out = subprocess.run(cmd, check=True, capture_output=True, text=True)
     text = out.stdout + out.stderr
     m = re.search(r"render ([0-9.]+)s", text)
@@ -166,6 +168,8 @@ def main():
     ap.add_argument("--png", help="write the first scene's last path and bdpt images and the "
                     "reference side by side to this PNG")
     ap.add_argument("--keep", help="folder to keep the EXR images in")
+    ap.add_argument("--max-depth", type=int, help="Appel's max_depth instead of the file's (8 "
+                    "renders water-caustic as Tungsten did: its max_bounces 8, the file's 9)")
     args = ap.parse_args()
     import numpy as np
 
@@ -193,7 +197,7 @@ def main():
                 for k in range(args.repeat):
                     image = os.path.join(out_dir, f"{name}-{integrator}-{k}.exr")
                     t, spp, cmd = render(args.appel, scene, integrator, seconds, args.threads,
-                                         image)
+                                         image, args.max_depth)
                     img = read_rgb(image)
                     runs.append([figures(img, ref, m) for _, m in parts] + [(t, spp)])
                     last[integrator] = img
